@@ -1,0 +1,21 @@
+// Front ends: turn source text into the program model.
+//
+// `parse_program_file` uses the tree-sitter grammar (grammar/) and is the
+// reference definition of the syntax. Every syntax problem becomes a
+// SyntaxError on the block where it occurs (rule OSP001 reports them), so a
+// file is never skipped silently.
+#pragma once
+
+#include <string>
+
+#include "source.h"
+
+namespace osplint {
+
+ProgramFile parse_program_file(std::string path, std::string text);
+
+// Splits blocks into programs (an `O` name starts a new one). Shared by the
+// front ends so that both agree on program boundaries.
+std::vector<Program> split_programs(const std::vector<Block>& blocks);
+
+}  // namespace osplint
