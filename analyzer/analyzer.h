@@ -1,0 +1,60 @@
+// The checker: program model in, diagnostics out.
+#pragma once
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "config.h"
+#include "diagnostic.h"
+#include "modal.h"
+#include "rule.h"
+#include "source.h"
+
+namespace osplint {
+
+// Program names known beyond the file being checked (other checked files,
+// .SSB/.SUB/.LIB files of the same directory), upper case.
+using ProgramNames = std::set<std::string, std::less<>>;
+
+struct AnalysisOptions {
+    const ProgramNames* known_programs = nullptr;
+    bool keep_states = false;  // fill AnalysisResult::blocks (trace, language server)
+    // Only run these rules (IDs); empty = every enabled rule. Used by fixtures.
+    std::vector<std::string> only_rules;
+};
+
+struct BlockInfo {
+    ModalState before;
+    ModalState after;
+    std::optional<MacroCall> call;  // args' Word pointers point into ProgramFile::blocks
+    bool reachable = false;
+};
+
+struct AnalysisResult {
+    std::vector<Diagnostic> diagnostics;  // sorted
+    std::vector<BlockInfo> blocks;        // per block, when keep_states
+};
+
+// Runs every enabled rule over a parsed file.
+AnalysisResult analyze(const ProgramFile& file, const Config& config, const AnalysisOptions& options = {});
+
+// The state at the start of a program (from the configuration's machine defaults).
+ModalState initial_state(const Config& config, bool subprogram);
+
+// Applies one block to the state (the transfer function shared by everything
+// that needs modal state: the analyzer, `osplint trace`, the language server).
+void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state);
+
+// Resolves the macro or subprogram a block invokes, with evaluated arguments.
+std::optional<MacroCall> resolve_call(const Block& block, const ModalState& before, const Catalog& catalog);
+
+// Reads the program names a file defines without parsing it fully.
+void collect_program_names(std::string_view text, ProgramNames& out);
+
+// Fingerprint of a finding: rule + program + normalised block text + occurrence.
+std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
+                             int occurrence);
+
+}  // namespace osplint

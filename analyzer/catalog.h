@@ -1,0 +1,294 @@
+// The macro catalog: the shop library's custom cycle macros and the control's
+// fixed cycles, as data.
+//
+// The argument tables, call forms, mode behaviour, action sequences and the
+// readings taken where the manuals contradict themselves live in
+// data/macros.toml (embedded in the binary). Shops add or adjust macros in
+// their osplint.toml with the same schema (`[macro.NAME]` tables, see
+// docs/catalog.md); `Catalog::merge` applies them. Rules ask the catalog; they
+// never hard-code a macro's table.
+//
+// Pointers returned by the lookups stay valid for the catalog's lifetime,
+// also across `merge` (a replaced macro is updated in place).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace toml {
+inline namespace v3 {
+class table;
+}
+}  // namespace toml
+
+namespace osplint {
+
+// What happens when an argument is left out (the manuals' 省略時の処理 column,
+// after the readings in the catalog are applied).
+enum class ArgOmitted : uint8_t {
+    Required,  // エラー: omitting it raises an alarm
+    Default,   // a printed default value or expression (`default_text`)
+    Current,   // 現在値: the current modal value or position is used
+    None,      // 無し: no value; the related function is not performed
+    Unknown,   // the manual does not say (undocumented or table-less arguments)
+};
+
+enum class ArgSign : uint8_t { Any, Positive, NonNegative, NonZero };
+
+enum class ArgRole : uint8_t {
+    Position,    // positioning-plane coordinate (follows G90/G91)
+    Cycle,       // cycle-axis coordinate
+    Length,      // a length or distance (not a coordinate)
+    Stroke,      // a tool or clutch stroke
+    Shift,       // a shift for tool insertion/withdrawal or relief
+    Feed,        // a feed rate
+    Speed,       // spindle speed
+    Dwell,       // dwell time
+    Time,        // another time (e.g. intermittent lubrication)
+    CompNumber,  // cutter-radius compensation number
+    MCode,       // M code handed over to the macro (PM=52)
+    Vector,      // end-point vector component
+    Pitch,       // pitch
+    Direction,   // a direction selector (G2/G3)
+    Count,       // repeat count
+};
+
+// Whether an argument appears on a printed command-format line.
+enum class ArgInFormat : uint8_t { Required, Optional, Absent };
+
+// How a macro is invoked.
+enum class MacroForm : uint8_t { Call, Modin, GCode, MCode };
+inline constexpr std::size_t kMacroFormCount = 4;
+
+// M52 written on the invoking line.
+enum class M52Mode : uint8_t {
+    IgnoredUsePM52,  // not read by the subprogram; command PM=52 (M52 on blocks
+                     // executed while a MODIN call is modal is valid)
+    FixedCycle,      // as with fixed cycles
+    Undocumented,
+};
+
+enum class M53Mode : uint8_t {
+    ReturnToPT,    // M53 returns to PT; G71 is not read; M53 without PT -> alarm
+    FixedCycle,    // as with fixed cycles: G71 gives the return level
+    Undocumented,  // the manual gives no M53 behaviour
+};
+
+enum class SpecKind : uint8_t { Macro, FixedCycle };
+
+// Where a "required" argument has to be written.
+enum class RequiredScope : uint8_t {
+    EveryCall,   // on every CALL/MODIN/G-code line that invokes the macro
+    CycleStart,  // on the block that starts the cycle; later blocks of the same
+                 // cycle inherit the modal values (fixed cycles, G114)
+};
+
+struct ArgSpec {
+    std::string name;                  // "PZ" (macros) or the address "Z" (fixed cycles, OG84L)
+    std::vector<std::string> aliases;  // other names the manual uses for it ("PZ" for OG84L's Z)
+    std::string meaning;
+    ArgOmitted omitted = ArgOmitted::None;
+    std::string default_text;            // the omitted column as printed (English), e.g. "PF*4"
+    std::optional<double> default_value;  // when the default is a number
+    ArgSign sign = ArgSign::Any;
+    std::vector<double> allowed;  // when only these values are allowed (PG: 2, 3)
+    bool negative_allowed = false;  // 負数可 printed
+    ArgRole role = ArgRole::Length;
+    std::array<char, 3> axes{};  // machine axis in G17, G18, G19; '\0' = none
+    std::array<ArgInFormat, kMacroFormCount> in_format{ArgInFormat::Absent, ArgInFormat::Absent,
+                                                       ArgInFormat::Absent, ArgInFormat::Absent};
+    bool undocumented = false;        // referenced by the manual but not defined in its table
+    bool always_incremental = false;  // incremental even under G90
+    bool g91_only = false;            // valid only in G91 mode
+    std::string source;               // "000:L153"
+    std::string note;
+
+    bool required() const { return omitted == ArgOmitted::Required; }
+    // The machine axis this argument maps to in plane 17, 18 or 19, if any.
+    std::optional<char> axis(int plane) const;
+    ArgInFormat format_status(MacroForm form) const {
+        return in_format[static_cast<std::size_t>(form)];
+    }
+};
+
+struct FormatLine {
+    MacroForm form = MacroForm::Call;
+    std::string text;  // as printed, English-normalised ASCII
+    std::string source;
+};
+
+// The G-code macro form (`G11* Xx Yy ...`): bare addresses mapped to arguments.
+struct GCodeForm {
+    std::string text;
+    std::string source;
+    std::map<std::string, std::string> address_map;  // "Q" -> "PQ"
+    std::string note;
+};
+
+// At least one of `args` must be given (in `plane` when set: 17, 18, 19; 0 = any).
+struct AtLeastOne {
+    int plane = 0;
+    std::vector<std::string> args;
+    std::string source;
+    bool inferred = false;
+};
+
+// A relation between argument values: `left op right`, where both sides are
+// simple expressions over argument names and numbers (see `Expr` below).
+struct Relation {
+    std::string left, op, right;  // op: > >= < <= == !=
+    int plane = 0;                // holds in this plane only (0 = any)
+    std::string when;             // extra condition, e.g. "given:PK"
+    std::string source;
+    bool inferred = false;
+    std::string note;
+};
+
+// One step of the manual's action sequence. `target` is the cycle-axis
+// position reached by the step, `by` a cycle-axis move of stated length but
+// unstated direction. Both use the expression syntax: argument names, numbers,
+// `+` and `-`.
+struct ActionStep {
+    std::string step;  // "3", "3a"
+    std::string text;
+    std::string feed;
+    std::string target;
+    std::string by;
+    std::string when;  // "M53", "given:PK", "G17 and (PM=52 or M52)" ...
+    bool inferred = false;
+    std::string source;
+};
+
+struct CatalogNote {
+    std::string text;
+    std::string source;
+};
+
+// Where the manuals contradict themselves: the item of MACROS.md §4, what is
+// taken and why. `open` readings can be changed in the configuration.
+struct Reading {
+    std::string id;  // "A-34"
+    std::string issue;
+    std::string reading;
+    bool open = false;
+    std::string override_hint;  // a config snippet that takes the other reading
+};
+
+struct MacroSpec {
+    SpecKind kind = SpecKind::Macro;
+    std::string name;  // "OZAGR"; fixed cycles: "G81"
+    int gcode = 0;     // fixed cycles: 81
+    std::string family;
+    std::string title;
+    std::string manual;  // "seed 000 (OG87EX, 2001-07-30)"
+    std::string source;  // "000:L552-648"
+    std::vector<MacroForm> forms;
+    bool args_documented = true;  // false: argument table unknown (accept any)
+    bool mm_only = false;
+    bool cycle_args_absolute_g91 = false;
+    M52Mode m52 = M52Mode::Undocumented;
+    M53Mode m53 = M53Mode::Undocumented;
+    bool g60_ncyl_forbidden = false;
+    bool vc120_128_clobbered = false;
+    bool q_repeat_unsafe = false;
+    bool g91_forbidden = false;
+    bool tapping = false;
+    RequiredScope required_scope = RequiredScope::EveryCall;
+    std::vector<FormatLine> formats;
+    std::optional<GCodeForm> gcode_form;
+    std::vector<std::string> codes;  // G/M codes it is registered to by default ("G114")
+    std::string cancel;   // the macro that cancels this one ("OC84L")
+    std::string cancels;  // the macro this one cancels
+    std::string plane_table;
+    std::vector<ArgSpec> args;  // in manual order
+    std::vector<AtLeastOne> at_least_one;
+    std::vector<Relation> relations;
+    std::vector<ActionStep> action;
+    std::vector<CatalogNote> notes;
+    std::vector<Reading> readings;
+    std::string origin;  // the file that defined it last
+
+    // By name or alias, case-insensitive.
+    const ArgSpec* arg(std::string_view name) const;
+    // In the G-code macro form: the argument an address stands for (through
+    // `gcode_form->address_map`, else by name).
+    const ArgSpec* arg_for_address(std::string_view address) const;
+    bool has_form(MacroForm form) const;
+    const Reading* reading(std::string_view id) const;
+};
+using CycleSpec = MacroSpec;
+
+// A plane-designation table as printed in a manual, with the reading taken.
+struct PlaneTable {
+    std::string id;  // "seed000"
+    std::string source;
+    std::vector<std::string> columns;
+    std::array<std::vector<std::string>, 3> rows;  // G17, G18, G19 cells as printed ("" = blank)
+    std::string reading;
+};
+
+class Catalog {
+public:
+    // The shipped catalog (data/macros.toml, embedded). Throws ConfigError if broken.
+    static Catalog builtin();
+    // A whole catalog file. Throws ConfigError naming `origin` and the line.
+    static Catalog from_toml_text(std::string_view text, std::string origin);
+
+    // Applies a configuration file's `[macro]` table: each `[macro.NAME]` adds
+    // a macro, or patches the existing one (`replace = true` redefines it).
+    // Throws ConfigError(origin, line, key, message) on a bad entry; on error
+    // the catalog is left unchanged.
+    void merge(const toml::table& macros_table, const std::string& origin);
+
+    // Registers a G/M-code macro ("G114" -> "OG84L"); an empty macro name
+    // removes the registration. Codes are normalised ("g0114" -> "G114").
+    void register_code(std::string code, std::string macro);
+    const MacroSpec* find_by_code(std::string_view code) const;
+    const std::map<std::string, std::string>& registrations() const { return codes_; }
+
+    // By name as written after CALL/MODIN, case-insensitive ("OZAGR").
+    const MacroSpec* find(std::string_view name) const;
+    const CycleSpec* find_cycle(int gcode) const;
+    const PlaneTable* plane_table(std::string_view id) const;
+
+    // In catalog order (the file's order, then macros added by configuration).
+    const std::deque<MacroSpec>& macros() const { return macros_; }
+    const std::deque<CycleSpec>& cycles() const { return cycles_; }
+
+    // The card shown by `osplint explain NAME` (plain text) and on hover (Markdown).
+    std::string render_card(const MacroSpec& spec, bool markdown) const;
+
+private:
+    std::deque<MacroSpec> macros_;
+    std::deque<CycleSpec> cycles_;
+    std::map<std::string, std::string> codes_;  // "G114" -> "OG84L"
+    std::vector<PlaneTable> plane_tables_;
+};
+
+// Names as written in the catalog files ("required", "cycle", "MODIN", ...).
+std::string_view to_string(ArgOmitted v);
+std::string_view to_string(ArgSign v);
+std::string_view to_string(ArgRole v);
+std::string_view to_string(ArgInFormat v);
+std::string_view to_string(MacroForm v);
+std::string_view to_string(M52Mode v);
+std::string_view to_string(M53Mode v);
+std::string_view to_string(RequiredScope v);
+
+// The expressions of `ActionStep::target`, `ActionStep::by` and `Relation`:
+// a sum of terms, each a number or an argument name, joined by + and -.
+struct ExprTerm {
+    int sign = 1;      // +1 or -1
+    std::string name;  // argument name, empty for a number
+    double number = 0;
+};
+// Parses an expression; nullopt when it does not follow the syntax.
+std::optional<std::vector<ExprTerm>> parse_catalog_expr(std::string_view text);
+
+}  // namespace osplint

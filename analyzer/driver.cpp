@@ -1,0 +1,319 @@
+// The analysis driver: control flow per program, modal state to a fixpoint,
+// then one pass that hands every block to every enabled rule.
+#include <algorithm>
+#include <cctype>
+#include <functional>
+#include <queue>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "analyzer.h"
+#include "catalog.h"
+#include "eval.h"
+#include "rules/registry.h"
+
+namespace osplint {
+namespace {
+
+bool ends_program(const Block& b) {
+    if (b.statement(StmtKind::Rts)) return true;
+    for (const auto& w : b.words)
+        if (w.address == "M" && w.number && (*w.number == 2 || *w.number == 30)) return true;
+    return false;
+}
+
+// Successor edges of the blocks of one program.
+struct Flow {
+    std::vector<std::vector<uint32_t>> succ;  // indices relative to the program's first block
+    std::vector<bool> exits;                  // the program ends after this block
+    bool has_jumps = false;
+};
+
+Flow build_flow(const std::vector<Block>& blocks, const Program& p,
+                const std::unordered_map<std::string, std::vector<uint32_t>>& labels) {
+    const uint32_t n = p.end_block - p.first_block;
+    Flow f;
+    f.succ.resize(n);
+    f.exits.assign(n, false);
+    // Match DO/WHILE n with END n (innermost first, per loop number).
+    std::unordered_map<int, std::vector<uint32_t>> open;
+    std::vector<int64_t> loop_end(n, -1), loop_head(n, -1);
+    for (uint32_t i = 0; i < n; ++i) {
+        const Block& b = blocks[p.first_block + i];
+        for (const auto& st : b.statements) {
+            if ((st.kind == StmtKind::While || st.kind == StmtKind::Do) && st.loop >= 0) {
+                open[st.loop].push_back(i);
+            } else if (st.kind == StmtKind::End && st.loop >= 0) {
+                auto& v = open[st.loop];
+                if (!v.empty()) {
+                    loop_head[i] = v.back();
+                    loop_end[v.back()] = i;
+                    v.pop_back();
+                }
+            }
+        }
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        const Block& b = blocks[p.first_block + i];
+        auto& out = f.succ[i];
+        bool falls_through = true;
+        auto jump_to = [&](const std::string& label) {
+            f.has_jumps = true;
+            if (auto it = labels.find(label); it != labels.end())
+                for (uint32_t t : it->second) out.push_back(t);
+        };
+        for (const auto& st : b.statements) {
+            switch (st.kind) {
+                case StmtKind::Goto:
+                    jump_to(st.name);
+                    if (!b.block_delete) falls_through = false;
+                    break;
+                case StmtKind::If:
+                    jump_to(st.name);
+                    break;
+                case StmtKind::While:
+                    f.has_jumps = true;
+                    if (loop_end[i] >= 0 && static_cast<uint32_t>(loop_end[i]) + 1 < n)
+                        out.push_back(static_cast<uint32_t>(loop_end[i]) + 1);
+                    break;
+                case StmtKind::End:
+                    if (loop_head[i] >= 0) {
+                        f.has_jumps = true;
+                        out.push_back(static_cast<uint32_t>(loop_head[i]));
+                        // A WHILE loop exits at its head; a bare DO loop only through a jump.
+                        if (!b.block_delete) falls_through = false;
+                        const Block& head = blocks[p.first_block + loop_head[i]];
+                        if (head.statement(StmtKind::While)) falls_through = false;
+                    }
+                    break;
+                default: break;
+            }
+        }
+        if (ends_program(b)) {
+            f.exits[i] = true;
+            if (!b.block_delete) falls_through = false;
+        }
+        if (falls_through && i + 1 < n) out.push_back(i + 1);
+        if (falls_through && i + 1 == n) f.exits[i] = true;
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+    return f;
+}
+
+bool file_is_subprogram_library(std::string_view path) {
+    auto dot = path.rfind('.');
+    if (dot == std::string_view::npos) return false;
+    std::string ext;
+    for (char c : path.substr(dot + 1)) ext += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return ext == "SSB" || ext == "SUB" || ext == "LIB" || ext == "MSB";
+}
+
+class Context final : public RuleContext {
+public:
+    Context(const ProgramFile& file, const Config& config, const ProgramNames* known)
+        : file_(file), config_(config), known_(known) {}
+
+    const Config& config() const override { return config_; }
+    const Catalog& catalog() const override { return config_.catalog; }
+    const SourceText& source() const override { return file_.source; }
+    std::string_view path() const override { return file_.path; }
+    bool has_label(std::string_view name) const override { return labels_ && labels_->count(std::string(name)); }
+    bool has_program(std::string_view name) const override {
+        for (const auto& p : file_.programs)
+            if (p.name == name) return true;
+        return known_ && known_->find(name) != known_->end();
+    }
+    std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const override {
+        return evaluate(block, e, state);
+    }
+    Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) override {
+        Diagnostic d;
+        d.rule = std::string(rule.id);
+        d.name = std::string(rule.name);
+        d.severity = config_.severity_of(rule.id, rule.severity, rule.enabled_by_default).value_or(rule.severity);
+        d.message = std::move(message);
+        d.range = resolve(range);
+        std::string_view lt = file_.source.line_text(d.range.start.line);
+        d.line_text = std::string(lt.substr(0, 1000));
+        d.fingerprint = fingerprint_for(rule.id, range);
+        diagnostics.push_back(std::move(d));
+        return diagnostics.back();
+    }
+
+    void set_program(const Program* p, const std::unordered_map<std::string, std::vector<uint32_t>>* labels) {
+        program_ = p;
+        labels_ = labels;
+    }
+
+    std::vector<Diagnostic> diagnostics;
+
+private:
+    std::string fingerprint_for(std::string_view rule, ByteRange range) {
+        // The block text (whitespace folded) identifies the finding independently of its line.
+        const std::string& text = file_.source.text();
+        uint32_t line = file_.source.line_of(range.begin);
+        std::string_view lt = file_.source.line_text(line);
+        std::string norm;
+        for (char c : lt)
+            if (!std::isspace(static_cast<unsigned char>(c))) norm += c;
+        (void)text;
+        std::string key = fmt::format("{}|{}|{}", rule, program_ ? program_->name : "", norm);
+        int occurrence = ++occurrences_[key];
+        return make_fingerprint(rule, program_ ? program_->name : "", norm, occurrence);
+    }
+
+    const ProgramFile& file_;
+    const Config& config_;
+    const ProgramNames* known_;
+    const Program* program_ = nullptr;
+    const std::unordered_map<std::string, std::vector<uint32_t>>* labels_ = nullptr;
+    std::unordered_map<std::string, int> occurrences_;
+};
+
+}  // namespace
+
+std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
+                             int occurrence) {
+    // FNV-1a 64, printed as hex: stable across platforms and runs.
+    uint64_t h = 1469598103934665603ull;
+    auto mix = [&](std::string_view s) {
+        for (unsigned char c : s) {
+            h ^= c;
+            h *= 1099511628211ull;
+        }
+        h ^= 0xff;
+        h *= 1099511628211ull;
+    };
+    mix(rule);
+    mix(program);
+    mix(block_text);
+    mix(std::to_string(occurrence));
+    return fmt::format("{:016x}", h);
+}
+
+void collect_program_names(std::string_view text, ProgramNames& out) {
+    size_t i = 0;
+    while (i < text.size()) {
+        size_t e = text.find_first_of("\r\n", i);
+        if (e == std::string_view::npos) e = text.size();
+        std::string_view line = text.substr(i, e - i);
+        size_t k = line.find_first_not_of(" \t");
+        if (k != std::string_view::npos && (line[k] == 'O' || line[k] == 'o')) {
+            std::string name = "O";
+            for (size_t j = k + 1; j < line.size() && std::isalnum(static_cast<unsigned char>(line[j])); ++j)
+                name += static_cast<char>(std::toupper(static_cast<unsigned char>(line[j])));
+            if (name.size() > 1) out.insert(name);
+        }
+        i = e + 1;
+    }
+}
+
+AnalysisResult analyze(const ProgramFile& file, const Config& config, const AnalysisOptions& options) {
+    AnalysisResult result;
+    Context ctx(file, config, options.known_programs);
+
+    // The enabled rules for this run (fresh instances: rules may keep per-program state).
+    std::vector<std::unique_ptr<Rule>> rules;
+    for (auto& r : make_rules()) {
+        const RuleMeta& m = r->meta();
+        if (!options.only_rules.empty()) {
+            if (std::find(options.only_rules.begin(), options.only_rules.end(), m.id) == options.only_rules.end())
+                continue;
+        } else if (!config.severity_of(m.id, m.severity, m.enabled_by_default)) {
+            continue;
+        }
+        rules.push_back(std::move(r));
+    }
+    if (options.keep_states) result.blocks.resize(file.blocks.size());
+    const Catalog& catalog = config.catalog;
+
+    for (const Program& p : file.programs) {
+        const uint32_t n = p.end_block - p.first_block;
+        std::unordered_map<std::string, std::vector<uint32_t>> labels;
+        bool subprogram = file_is_subprogram_library(file.path);
+        for (uint32_t i = 0; i < n; ++i) {
+            const Block& b = file.blocks[p.first_block + i];
+            if (b.sequence) labels[b.sequence->name].push_back(i);
+            if (b.statement(StmtKind::Rts)) subprogram = true;
+        }
+        ctx.set_program(&p, &labels);
+        Flow flow = build_flow(file.blocks, p, labels);
+
+        // Modal state at every block, to a fixpoint over the flow graph.
+        std::vector<std::optional<ModalState>> in(n);
+        if (n) in[0] = initial_state(config, subprogram);
+        std::vector<std::optional<MacroCall>> calls(n);
+        std::optional<ModalState> final_state;
+        auto transfer = [&](uint32_t i, const ModalState& before) {
+            const Block& b = file.blocks[p.first_block + i];
+            calls[i] = resolve_call(b, before, catalog);
+            ModalState after = before;
+            apply_block(b, calls[i] ? &*calls[i] : nullptr, catalog, after);
+            if (b.block_delete) after.merge(before);  // BLOCK SKIP may be on or off
+            return after;
+        };
+        auto flow_into = [&](uint32_t t, const ModalState& st) -> bool {
+            if (!in[t]) {
+                in[t] = st;
+                return true;
+            }
+            ModalState merged = *in[t];
+            merged.merge(st);
+            if (merged == *in[t]) return false;
+            in[t] = std::move(merged);
+            return true;
+        };
+        if (n) {
+            std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> work;
+            std::vector<bool> queued(n, false);
+            work.push(0);
+            queued[0] = true;
+            while (!work.empty()) {
+                uint32_t i = work.top();
+                work.pop();
+                queued[i] = false;
+                ModalState after = transfer(i, *in[i]);
+                if (flow.exits[i]) {
+                    if (!final_state) final_state = after;
+                    else final_state->merge(after);
+                }
+                for (uint32_t t : flow.succ[i])
+                    if (flow_into(t, after) && !queued[t]) {
+                        queued[t] = true;
+                        work.push(t);
+                    }
+            }
+        }
+
+        // One pass over the blocks for the rules.
+        ProgramView pv{p, &file.blocks, subprogram, final_state ? &*final_state : nullptr};
+        for (auto& r : rules) r->begin_program(ctx, pv);
+        const ModalState unknown_state;
+        for (uint32_t i = 0; i < n; ++i) {
+            const Block& b = file.blocks[p.first_block + i];
+            const bool reachable = in[i].has_value();
+            const ModalState& before = reachable ? *in[i] : unknown_state;
+            if (!reachable) calls[i] = resolve_call(b, before, catalog);
+            ModalState after = before;
+            apply_block(b, calls[i] ? &*calls[i] : nullptr, catalog, after);
+            BlockView view{b, before, after, calls[i] ? &*calls[i] : nullptr, reachable};
+            for (auto& r : rules) r->check_block(ctx, view);
+            if (options.keep_states) {
+                auto& info = result.blocks[p.first_block + i];
+                info.before = before;
+                info.after = after;
+                info.call = calls[i];
+                info.reachable = reachable;
+            }
+        }
+        for (auto& r : rules) r->end_program(ctx, pv);
+        ctx.set_program(nullptr, nullptr);
+    }
+    result.diagnostics = std::move(ctx.diagnostics);
+    std::stable_sort(result.diagnostics.begin(), result.diagnostics.end(), diagnostic_less);
+    return result;
+}
+
+}  // namespace osplint

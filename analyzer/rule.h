@@ -1,0 +1,111 @@
+// What a rule sees and how it reports.
+//
+// The analyzer walks each program once: it computes the modal state at every
+// block (analyzer/modal.h), resolves which macro each block invokes (a CALL, a
+// MODIN line, a block that triggers an open MODIN, a registered G-code macro),
+// evaluates the arguments, and then hands every block to every enabled rule
+// in program order. Rules never walk the program themselves.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "diagnostic.h"
+#include "modal.h"
+#include "model.h"
+#include "source.h"
+
+namespace osplint {
+
+class Catalog;
+struct MacroSpec;
+struct Config;
+
+struct RuleMeta {
+    std::string_view id;        // "OSP104", never reused
+    std::string_view name;      // "m52-on-call-line"
+    Severity severity;          // default severity
+    std::string_view summary;   // one line for `osplint rules`
+    bool enabled_by_default = true;
+};
+
+enum class CallKind {
+    None,
+    Call,              // CALL Oname ... on this block
+    Modin,             // MODIN Oname ... on this block (declares the modal call)
+    ModinPositioning,  // a positioning block while a MODIN is open: the macro runs here
+    GCode,             // a registered G-code macro (G114 ...) on this block
+    MCode,             // a registered M-code macro (M204 ...) on this block
+};
+std::string_view call_kind_name(CallKind k);  // "CALL", "MODIN", ...
+
+struct MacroArg {
+    std::string name;             // argument name as the macro sees it ("PR"; G-code "R" -> "PR")
+    const Word* word = nullptr;   // the word on the block (nullptr for MODIN-carried args)
+    Val<double> value;            // evaluated in the state before the block
+};
+
+struct MacroCall {
+    CallKind kind = CallKind::None;
+    std::string name;                 // "OZAGR" (the macro, after resolving a G/M code)
+    ByteRange name_range;             // the name after CALL/MODIN, or the G/M word
+    const MacroSpec* spec = nullptr;  // nullptr: not in the catalog
+    bool defined_in_files = false;    // a program of that name exists in the checked files
+    std::vector<MacroArg> args;       // in the order written
+    const Word* repeat = nullptr;     // Q repeat count on CALL/MODIN (not the PQ argument)
+    std::vector<const Word*> m_codes; // M words written on the call block
+    uint32_t modin_line = 0;          // for ModinPositioning: the MODIN block's line
+
+    const MacroArg* arg(std::string_view n) const {
+        for (const auto& a : args)
+            if (a.name == n) return &a;
+        return nullptr;
+    }
+};
+
+struct BlockView {
+    const Block& block;
+    const ModalState& before;  // state in effect when the block starts
+    const ModalState& after;   // state after the block
+    const MacroCall* call;     // nullptr when the block invokes no subprogram or macro
+    bool reachable = true;     // false for blocks no path from the program start reaches
+};
+
+struct ProgramView {
+    const Program& program;
+    const std::vector<Block>* blocks = nullptr;  // the file's blocks (null when streaming)
+    bool is_subprogram = false;  // ends with RTS (or lives in a .SSB/.SUB/.LIB file)
+    const ModalState* final_state = nullptr;     // merged state where the program ends
+};
+
+class RuleContext {
+public:
+    virtual ~RuleContext() = default;
+    virtual const Config& config() const = 0;
+    virtual const Catalog& catalog() const = 0;
+    virtual const SourceText& source() const = 0;
+    virtual std::string_view path() const = 0;
+    // Sequence names defined in the current program.
+    virtual bool has_label(std::string_view name) const = 0;
+    // Whether a program of that name is defined in the checked files.
+    virtual bool has_program(std::string_view name) const = 0;
+    // Value of an expression of `block` in `state`, when it can be known.
+    virtual std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const = 0;
+
+    SourceRange resolve(ByteRange r) const;
+    // Reports a finding of `rule` at `range`; severity comes from configuration.
+    virtual Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) = 0;
+};
+
+class Rule {
+public:
+    virtual ~Rule() = default;
+    virtual const RuleMeta& meta() const = 0;
+    virtual void begin_program(RuleContext&, const ProgramView&) {}
+    virtual void check_block(RuleContext&, const BlockView&) {}
+    virtual void end_program(RuleContext&, const ProgramView&) {}
+};
+
+}  // namespace osplint

@@ -1,0 +1,174 @@
+// osplint command line: check, rules, explain, config (and trace, lsp).
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include <CLI/CLI.hpp>
+
+#include "analyzer/embedded.h"
+#include "analyzer/errors.h"
+#include "analyzer/report.h"
+#include "cli/commands.h"
+#include "osplint/osplint.h"
+#include "rules/registry.h"
+
+namespace fs = std::filesystem;
+using namespace osplint;
+
+namespace osplint::cli {
+
+bool is_program_file(const fs::path& p) {
+    std::string ext = p.extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return ext == ".MIN" || ext == ".SSB" || ext == ".SUB" || ext == ".SDF" || ext == ".LIB" || ext == ".NC" ||
+           ext == ".MSB";
+}
+
+// Expands the command-line paths: files as given, directories recursively
+// (program files only), `-` for standard input. Sorted, without duplicates.
+std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors) {
+    std::vector<std::string> files;
+    for (const auto& a : args) {
+        if (a == "-") {
+            files.push_back(a);
+            continue;
+        }
+        std::error_code ec;
+        fs::path p(a);
+        if (fs::is_directory(p, ec)) {
+            std::vector<std::string> found;
+            fs::recursive_directory_iterator it(p, fs::directory_options::skip_permission_denied, ec), end;
+            if (ec) {
+                errors.push_back(a + ": cannot read directory: " + ec.message());
+                continue;
+            }
+            for (; it != end; it.increment(ec)) {
+                if (ec) break;
+                std::error_code e2;
+                if (it->is_regular_file(e2) && is_program_file(it->path())) found.push_back(it->path().string());
+            }
+            std::sort(found.begin(), found.end());
+            files.insert(files.end(), found.begin(), found.end());
+        } else {
+            files.push_back(a);  // missing files and links are reported when checked
+        }
+    }
+    std::vector<std::string> unique;
+    for (auto& f : files)
+        if (std::find(unique.begin(), unique.end(), f) == unique.end()) unique.push_back(f);
+    return unique;
+}
+
+}  // namespace osplint::cli
+
+namespace {
+
+int cmd_rules() {
+    for (const auto& m : all_rules()) {
+        std::cout << fmt::format("{}  {:<32} {:<8} {}{}\n", m.id, m.name, severity_name(m.severity), m.summary,
+                                 m.enabled_by_default ? "" : " (off by default)");
+    }
+    return 0;
+}
+
+int cmd_explain(const std::string& what_in) {
+    std::string what = what_in;
+    for (auto& c : what) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (find_rule(what)) {
+        if (auto doc = embedded::find("docs/rules/" + what + ".md")) {
+            std::cout << *doc;
+            if (!doc->empty() && doc->back() != '\n') std::cout << "\n";
+            return 0;
+        }
+        const RuleMeta* m = find_rule(what);
+        std::cout << m->id << " " << m->name << ": " << m->summary << "\n";
+        return 0;
+    }
+    Config defaults;
+    if (auto cfg = find_config(fs::current_path())) {
+        try {
+            defaults = load_config(*cfg);
+        } catch (const ConfigError& e) {
+            std::cerr << "osplint: " << e.what() << "\n";
+            return 2;
+        }
+    }
+    const MacroSpec* spec = defaults.catalog.find(what);
+    if (!spec) spec = defaults.catalog.find_by_code(what);
+    if (spec) {
+        std::cout << defaults.catalog.render_card(*spec, false);
+        return 0;
+    }
+    std::cerr << "osplint: '" << what_in << "' is neither a rule ID (see `osplint rules`) nor a macro in the catalog\n";
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"osplint: static analyzer for Okuma OSP part programs"};
+    app.require_subcommand(0, 1);
+    bool show_version = false;
+    app.add_flag("--version", show_version, "Print the version and exit");
+
+    cli::CheckOptions check;
+    auto* check_cmd = app.add_subcommand("check", "Check part programs (files, directories, - for stdin)");
+    cli::add_check_options(*check_cmd, check);
+
+    auto* rules_cmd = app.add_subcommand("rules", "List every rule: ID, name, default severity, summary");
+
+    std::string explain_what;
+    auto* explain_cmd = app.add_subcommand("explain", "Print a rule's documentation or a macro's card");
+    explain_cmd->add_option("what", explain_what, "A rule ID (OSP104) or a macro name (OZAGR, G114)")->required();
+
+    std::string config_file;
+    std::string config_dir = ".";
+    auto* config_cmd = app.add_subcommand("config", "Print the effective configuration");
+    config_cmd->add_option("--config", config_file, "Configuration file (default: nearest osplint.toml)");
+    config_cmd->add_option("dir", config_dir, "Directory whose configuration to show");
+
+    cli::TraceOptions trace;
+    auto* trace_cmd = app.add_subcommand("trace", "Print the modal state and cycle envelopes block by block");
+    cli::add_trace_options(*trace_cmd, trace);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return 2;
+    }
+    if (show_version) {
+        std::cout << "osplint " << version() << "\n";
+        return 0;
+    }
+    try {
+        if (*check_cmd) return cli::run_check(check);
+        if (*rules_cmd) return cmd_rules();
+        if (*explain_cmd) return cmd_explain(explain_what);
+        if (*trace_cmd) return cli::run_trace(trace);
+        if (*config_cmd) {
+            Config c;
+            if (!config_file.empty()) {
+                c = load_config(config_file);
+            } else if (auto f = find_config(config_dir)) {
+                c = load_config(*f);
+            }
+            std::cout << dump_config(c);
+            return 0;
+        }
+    } catch (const ConfigError& e) {
+        std::cerr << "osplint: configuration error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "osplint: " << e.what() << "\n";
+        return 2;
+    }
+    std::cout << app.help();
+    return 2;
+}

@@ -1,0 +1,22 @@
+// OSP001 syntax-error: every place the grammar cannot parse.
+#include "analyzer/rule.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP001", "syntax-error", Severity::Error,
+                         "The block does not parse as OSP part-program syntax"};
+
+class SyntaxErrorRule final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        for (const auto& e : v.block.errors) ctx.report(kMeta, e.range, e.message);
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP001() { return std::make_unique<SyntaxErrorRule>(); }
+
+}  // namespace osplint
