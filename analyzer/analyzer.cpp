@@ -37,14 +37,15 @@ SourceRange RuleContext::resolve(ByteRange r) const {
 
 namespace {
 
-bool is_fixed_cycle_code(int g) {
-    switch (g) {
-        case 73: case 74: case 76: case 77: case 78: case 79: case 81: case 82: case 83: case 84:
-        case 85: case 86: case 87: case 88: case 89: case 186: case 273: case 274: case 283: case 284:
-            return true;
-        default:
-            return false;
-    }
+// A fixed cycle of the catalog, or one of the synchronized tapping cycles.
+bool is_fixed_cycle_code(const Catalog& catalog, int g) {
+    if (catalog.find_cycle(g)) return true;
+    return g == 273 || g == 274 || g == 283 || g == 284;
+}
+
+// A G-code macro that behaves as a fixed cycle until its cancel (OG84L).
+bool is_cycle_macro(const MacroSpec& spec) {
+    return spec.has_form(MacroForm::GCode) && !spec.cancel.empty();
 }
 
 bool is_axis_address(std::string_view a) {
@@ -130,7 +131,8 @@ std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, 
                     continue;
                 }
                 if (a.address == "G") continue;  // other G codes of the block (G90, G98 ...)
-                call.args.push_back(MacroArg{catalog.gcode_argument(*spec, a.address), &a, {}});
+                const ArgSpec* as = spec->arg_for_address(a.address);
+                call.args.push_back(MacroArg{as ? as->name : a.address, &a, {}});
             }
             break;
         }
@@ -259,15 +261,15 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     int cycle_code = 0;
     std::string cycle_macro;
     for (int c : g)
-        if (is_fixed_cycle_code(c)) cycle_code = c;
-    if (call && call->kind == CallKind::GCode && call->spec && catalog.is_cycle_macro(*call->spec)) {
+        if (is_fixed_cycle_code(catalog, c)) cycle_code = c;
+    if (call && call->kind == CallKind::GCode && call->spec && is_cycle_macro(*call->spec)) {
         for (const auto& w : b.words)
             if (w.range == call->name_range)
                 if (auto c = code_of(w)) cycle_code = *c;
         cycle_macro = call->spec->name;
         s.overrides_disabled = Val<bool>::of(true);
     }
-    if (call && call->kind == CallKind::MCode && call->spec && catalog.is_cycle_cancel(*call->spec)) {
+    if (call && call->kind == CallKind::MCode && call->spec && !call->spec->cancels.empty()) {
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
         s.overrides_disabled = Val<bool>::of(false);
         s.spindle = Val<int>::of(5);
@@ -368,7 +370,7 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
                 break;
             case StmtKind::Call: {
                 const MacroSpec* spec = catalog.find(st.name);
-                if (spec && !catalog.clobbers_common_variables(*spec)) break;
+                if (spec && !spec->vc120_128_clobbered) break;
                 if (spec) {
                     for (int n = 120; n <= 128; ++n) s.vars.erase("VC" + std::to_string(n));
                 } else {
@@ -382,7 +384,7 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         }
     }
     if (call && call->kind == CallKind::ModinPositioning && call->spec &&
-        catalog.clobbers_common_variables(*call->spec))
+        call->spec->vc120_128_clobbered)
         for (int n = 120; n <= 128; ++n) s.vars.erase("VC" + std::to_string(n));
 
     // Assignments: variables and plain locals (`PX=0` on a block with no G/M code or call).

@@ -188,7 +188,7 @@ std::string dump_config(const Config& c) {
     machine.insert("travel", std::move(travel));
     root.insert("machine", std::move(machine));
     toml::table gcode;
-    for (const auto& [code, macro] : c.catalog.code_registrations()) gcode.insert(code, macro);
+    for (const auto& [code, macro] : c.catalog.registrations()) gcode.insert(code, macro);
     toml::table macros;
     macros.insert("gcode", std::move(gcode));
     root.insert("macros", std::move(macros));

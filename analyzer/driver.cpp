@@ -229,14 +229,22 @@ AnalysisResult analyze(const ProgramFile& file, const Config& config, const Anal
     if (options.keep_states) result.blocks.resize(file.blocks.size());
     const Catalog& catalog = config.catalog;
 
+    bool seen_main = false;
     for (const Program& p : file.programs) {
         const uint32_t n = p.end_block - p.first_block;
         std::unordered_map<std::string, std::vector<uint32_t>> labels;
         bool subprogram = file_is_subprogram_library(file.path);
+        bool has_content = false;
         for (uint32_t i = 0; i < n; ++i) {
             const Block& b = file.blocks[p.first_block + i];
             if (b.sequence) labels[b.sequence->name].push_back(i);
             if (b.statement(StmtKind::Rts)) subprogram = true;
+            if (b.kind == LineKind::Block && !b.is_empty()) has_content = true;
+        }
+        // The first program of a main file is the main program; later ones are subprograms.
+        if (has_content && !subprogram) {
+            if (seen_main) subprogram = true;
+            seen_main = true;
         }
         ctx.set_program(&p, &labels);
         Flow flow = build_flow(file.blocks, p, labels);

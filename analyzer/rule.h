@@ -7,6 +7,7 @@
 // in program order. Rules never walk the program themselves.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -76,7 +77,9 @@ struct BlockView {
 struct ProgramView {
     const Program& program;
     const std::vector<Block>* blocks = nullptr;  // the file's blocks (null when streaming)
-    bool is_subprogram = false;  // ends with RTS (or lives in a .SSB/.SUB/.LIB file)
+    // A subprogram: it has an RTS, lives in a .SSB/.SUB/.LIB/.MSB file, or is not
+    // the first program of a main file. Its state at entry is unknown.
+    bool is_subprogram = false;
     const ModalState* final_state = nullptr;     // merged state where the program ends
 };
 

@@ -1,6 +1,7 @@
 // Subcommands of the osplint executable.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 

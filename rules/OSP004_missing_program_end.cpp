@@ -1,0 +1,62 @@
+// OSP004 missing-program-end: a main program without M02/M30, a subprogram without RTS.
+#include <cctype>
+
+#include "analyzer/rule.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP004", "missing-program-end", Severity::Warning,
+                         "A main program without M02/M30, or a subprogram without RTS"};
+
+std::string upper_extension(std::string_view path) {
+    auto dot = path.rfind('.');
+    auto slash = path.find_last_of("/\\");
+    if (dot == std::string_view::npos || (slash != std::string_view::npos && dot < slash)) return {};
+    std::string ext;
+    for (char c : path.substr(dot + 1)) ext += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+class MissingProgramEnd final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void begin_program(RuleContext&, const ProgramView&) override {
+        has_end_ = has_rts_ = false;
+        anchor_.reset();
+    }
+    void check_block(RuleContext&, const BlockView& v) override {
+        const Block& b = v.block;
+        if (!anchor_ && b.kind == LineKind::Block && !b.is_empty())
+            anchor_ = b.program_name ? b.program_name->range : b.range;
+        if (b.statement(StmtKind::Rts)) has_rts_ = true;
+        for (const auto& w : b.words)
+            if (w.address == "M" && w.number && (*w.number == 2 || *w.number == 30)) has_end_ = true;
+    }
+    void end_program(RuleContext& ctx, const ProgramView& p) override {
+        if (!anchor_) return;  // nothing but comments and tape marks
+        std::string ext = upper_extension(ctx.path());
+        if (ext == "SDF") return;  // schedule programs end with END
+        bool main_program = !p.is_subprogram;
+        std::string name = p.program.name.empty() ? std::string("this program") : p.program.name;
+        if (main_program && !has_end_) {
+            ctx.report(kMeta, *anchor_,
+                       name + " has no M02 or M30: the program runs off its end and the control stops with an alarm "
+                              "instead of ending the cycle");
+        } else if (!main_program && !has_rts_ && !has_end_) {
+            ctx.report(kMeta, *anchor_,
+                       name + " is a subprogram without RTS: control never returns to the caller");
+        }
+    }
+
+private:
+    bool has_end_ = false;
+    bool has_rts_ = false;
+    std::optional<ByteRange> anchor_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP004() { return std::make_unique<MissingProgramEnd>(); }
+
+}  // namespace osplint

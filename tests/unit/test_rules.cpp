@@ -1,0 +1,127 @@
+// Rule fixtures, rule docs and examples.
+//
+// * tests/rules/OSPnnn/*: each program runs with ONLY that rule enabled and the
+//   configuration of its directory (an osplint.toml there, else the defaults);
+//   every finding must be expected inline and every expectation found.
+// * docs/rules/OSPnnn.md: the "Problematic program" example fires the rule and
+//   the "Correct program" example does not.
+// * examples/: with every rule enabled, findings match the inline expectations
+//   exactly; the clean examples have none at warning or error.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <regex>
+
+#include "analyzer/embedded.h"
+#include "expectations.h"
+#include "rules/registry.h"
+
+namespace fs = std::filesystem;
+using namespace osplint;
+using namespace osplint::testing;
+
+namespace {
+
+fs::path source_dir() { return fs::path(OSPLINT_SOURCE_DIR); }
+
+Config config_for(const fs::path& dir) {
+    if (fs::exists(dir / "osplint.toml")) return load_config(dir / "osplint.toml");
+    return Config{};
+}
+
+std::vector<fs::path> programs_in(const fs::path& dir) {
+    std::vector<fs::path> out;
+    if (!fs::exists(dir)) return out;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        if (e.is_regular_file() && e.path().extension() != ".toml" && e.path().extension() != ".md") out.push_back(e.path());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// Fenced ```osp blocks under a heading of the doc.
+std::optional<std::string> example_under(std::string_view doc, std::string_view heading) {
+    size_t h = doc.find(heading);
+    if (h == std::string_view::npos) return std::nullopt;
+    size_t open = doc.find("```osp", h);
+    if (open == std::string_view::npos) return std::nullopt;
+    size_t start = doc.find('\n', open);
+    size_t close = doc.find("\n```", start);
+    if (start == std::string_view::npos || close == std::string_view::npos) return std::nullopt;
+    return std::string(doc.substr(start + 1, close - start));
+}
+
+bool cli_is_program(const fs::path& p) {
+    std::string ext = p.extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return ext == ".MIN" || ext == ".SSB" || ext == ".SUB" || ext == ".SDF" || ext == ".LIB" || ext == ".NC";
+}
+
+}  // namespace
+
+TEST_CASE("every rule has fixtures that pass with only that rule enabled") {
+    for (const auto& meta : all_rules()) {
+        fs::path dir = source_dir() / "tests" / "rules" / std::string(meta.id);
+        CAPTURE(meta.id);
+        auto files = programs_in(dir);
+        CHECK_MESSAGE(!files.empty(), "no fixtures in " << dir.string());
+        size_t expected_total = 0;
+        for (const auto& f : files) {
+            CAPTURE(f.string());
+            Config config = config_for(f.parent_path());
+            AnalysisOptions options;
+            options.only_rules = {std::string(meta.id)};
+            std::string text = read_file(f);
+            auto expected = parse_expectations(text);
+            for (const auto& e : expected) CHECK_MESSAGE(e.rule == meta.id, "fixture expects another rule: " << e.rule);
+            expected_total += expected.size();
+            FileResult r = check_text(f.string(), text, config, options);
+            auto problems = compare(expected, r.diagnostics, {});
+            for (const auto& p : problems) FAIL_CHECK(p);
+        }
+        CHECK_MESSAGE(expected_total > 0, "the fixtures of " << meta.id << " never expect it to fire");
+    }
+}
+
+TEST_CASE("every rule doc's problematic example fires the rule and its correct example does not") {
+    for (const auto& meta : all_rules()) {
+        CAPTURE(meta.id);
+        auto doc = embedded::find("docs/rules/" + std::string(meta.id) + ".md");
+        REQUIRE_MESSAGE(doc.has_value(), "missing docs/rules/" << meta.id << ".md");
+        for (auto heading : {"## What it does", "## Why", "## Problematic program", "## Correct program"})
+            CHECK_MESSAGE(doc->find(heading) != std::string_view::npos, "doc lacks " << heading);
+        auto bad = example_under(*doc, "## Problematic program");
+        auto good = example_under(*doc, "## Correct program");
+        REQUIRE(bad.has_value());
+        REQUIRE(good.has_value());
+        Config config;  // docs use the default configuration unless they say [machine.travel]
+        if (meta.id == "OSP301") config.travel['Z'] = {-300.0, 150.0};
+        AnalysisOptions options;
+        options.only_rules = {std::string(meta.id)};
+        auto rb = check_text("problematic.MIN", *bad, config, options);
+        auto rg = check_text("correct.MIN", *good, config, options);
+        CHECK_MESSAGE(!rb.diagnostics.empty(), "problematic example does not fire");
+        for (const auto& d : rg.diagnostics) FAIL_CHECK("correct example fires: " << d.message);
+    }
+}
+
+TEST_CASE("examples: findings match their inline expectations with every rule enabled") {
+    fs::path dir = source_dir() / "examples";
+    auto files = programs_in(dir);
+    REQUIRE(!files.empty());
+    for (const auto& f : files) {
+        if (!cli_is_program(f)) continue;
+        CAPTURE(f.string());
+        Config config = config_for(dir);
+        std::string text = read_file(f);
+        auto expected = parse_expectations(text);
+        FileResult r = check_text(f.string(), text, config);
+        // Info-level findings are reported but not part of the contract of clean examples.
+        std::vector<Diagnostic> relevant;
+        std::set<Expected> expected_set(expected.begin(), expected.end());
+        for (const auto& d : r.diagnostics) {
+            bool is_expected = expected_set.count(Expected{d.range.start.line, d.rule, std::nullopt});
+            if (d.severity != Severity::Info || is_expected) relevant.push_back(d);
+        }
+        for (const auto& p : compare(expected, relevant, {})) FAIL_CHECK(p);
+    }
+}
