@@ -1,0 +1,50 @@
+// OSP102 unknown-argument: an argument the macro does not take.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP102", "unknown-argument", Severity::Warning,
+                         "A macro call passes an argument the macro does not take"};
+
+class UnknownArgument final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !macro::is_invocation(*c) || !spec->args_documented) return;
+        for (const auto& a : c->args) {
+            if (!a.word) continue;
+            if (spec->arg(a.name)) continue;
+            if (c->kind == CallKind::GCode && spec->arg_for_address(a.word->address)) continue;
+            std::string msg;
+            if (c->kind != CallKind::GCode && a.name.size() == 1) {
+                msg = a.name + " is not an argument of " + spec->name + ": on a " +
+                      std::string(macro::call_kind_name_short(c->kind)) +
+                      " line arguments are written NAME=value (P-names), so this value is lost";
+                if (const ArgSpec* p = spec->arg("P" + a.name)) msg += "; did you mean P" + a.name + "= (" + p->meaning + ")?";
+            } else {
+                msg = a.name + " is not an argument of " + spec->name +
+                      ": the macro never reads it, so the value is silently lost";
+                const ArgSpec* best = nullptr;
+                for (const auto& s : spec->args)
+                    if (macro::edit_distance(s.name, a.name) == 1) {
+                        best = &s;
+                        break;
+                    }
+                if (best) msg += "; did you mean " + best->name + " (" + best->meaning + ")?";
+            }
+            auto& d = ctx.report(kMeta, a.word->range, std::move(msg));
+            std::string names;
+            for (const auto& s : spec->args) names += (names.empty() ? "" : " ") + s.name;
+            d.notes.push_back({spec->name + " takes: " + names + " (" + spec->manual + ")", std::nullopt});
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP102() { return std::make_unique<UnknownArgument>(); }
+
+}  // namespace osplint

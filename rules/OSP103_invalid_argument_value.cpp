@@ -1,0 +1,159 @@
+// OSP103 invalid-argument-value: a documented value constraint is broken.
+#include <cmath>
+#include <functional>
+
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP103", "invalid-argument-value", Severity::Error,
+                         "An argument value breaks a constraint documented in the manual"};
+
+struct Known {
+    std::optional<double> value;
+    ByteRange range;
+};
+using Lookup = std::function<Known(const ArgSpec&)>;
+
+std::optional<double> eval_terms(const std::vector<ExprTerm>& terms, const MacroSpec& spec, const Lookup& lookup) {
+    double sum = 0;
+    for (const auto& t : terms) {
+        double v = t.number;
+        if (!t.name.empty()) {
+            const ArgSpec* a = spec.arg(t.name);
+            if (!a) return std::nullopt;
+            Known k = lookup(*a);
+            if (!k.value) return std::nullopt;
+            v = *k.value;
+        }
+        sum += t.sign * v;
+    }
+    return sum;
+}
+
+bool holds(double l, const std::string& op, double r) {
+    if (op == ">") return l > r;
+    if (op == ">=") return l >= r;
+    if (op == "<") return l < r;
+    if (op == "<=") return l <= r;
+    if (op == "==") return l == r;
+    if (op == "!=") return l != r;
+    return true;
+}
+
+// Relations between cycle-axis coordinates are the order checks of OSP302.
+bool is_order_relation(const Relation& r, const MacroSpec& spec) {
+    for (const auto* side : {&r.left, &r.right}) {
+        auto terms = parse_catalog_expr(*side);
+        if (!terms) return true;
+        for (const auto& t : *terms)
+            if (!t.name.empty())
+                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
+    }
+    return false;
+}
+
+void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup, std::optional<Plane> plane,
+                  ByteRange fallback) {
+    for (const auto& a : spec.args) {
+        Known k = lookup(a);
+        if (!k.value || k.range.empty()) continue;
+        double v = *k.value;
+        std::string shown = a.name + "=" + macro::format_number(v);
+        std::string src = a.source.empty() ? spec.manual : "seed " + a.source;
+        if (!a.allowed.empty()) {
+            bool ok = false;
+            std::string list;
+            for (double x : a.allowed) {
+                if (x == v) ok = true;
+                list += (list.empty() ? "" : " or ") + macro::format_number(x);
+            }
+            if (!ok) {
+                ctx.report(kMeta, k.range,
+                           shown + " is not a value " + spec.name + " accepts: " + a.name + " (" + a.meaning +
+                               ") must be " + list + " (" + src + "); the macro stops with an alarm or does "
+                               "something the manual does not define");
+                continue;
+            }
+        }
+        const char* need = nullptr;
+        switch (a.sign) {
+            case ArgSign::Positive: if (!(v > 0)) need = "greater than 0"; break;
+            case ArgSign::NonNegative: if (v < 0) need = "0 or more (an unsigned distance)"; break;
+            case ArgSign::NonZero: if (v == 0) need = "non-zero"; break;
+            case ArgSign::Any: break;
+        }
+        if (need)
+            ctx.report(kMeta, k.range,
+                       shown + ": " + a.name + " (" + a.meaning + ") of " + spec.name + " must be " + need + " (" +
+                           src + "); the macro stops with an alarm or moves the wrong way");
+    }
+    for (const auto& r : spec.relations) {
+        if (is_order_relation(r, spec)) continue;
+        if (r.plane && (!plane || macro::plane_number(*plane) != r.plane)) continue;
+        if (!r.when.empty()) {
+            if (r.when.rfind("given:", 0) != 0) continue;  // conditions this rule cannot evaluate
+            const ArgSpec* a = spec.arg(r.when.substr(6));
+            if (!a || !lookup(*a).value) continue;
+        }
+        auto lt = parse_catalog_expr(r.left);
+        auto rt = parse_catalog_expr(r.right);
+        if (!lt || !rt) continue;
+        auto l = eval_terms(*lt, spec, lookup);
+        auto rv = eval_terms(*rt, spec, lookup);
+        if (!l || !rv || holds(*l, r.op, *rv)) continue;
+        ByteRange where = fallback;
+        for (const auto& t : *lt)
+            if (!t.name.empty())
+                if (const ArgSpec* a = spec.arg(t.name); a && !lookup(*a).range.empty()) {
+                    where = lookup(*a).range;
+                    break;
+                }
+        auto& d = ctx.report(kMeta, where,
+                             spec.name + " needs " + r.left + " " + r.op + " " + r.right + ", but " + r.left + " = " +
+                                 macro::format_number(*l) + " and " + r.right + " = " + macro::format_number(*rv) +
+                                 " (" + (r.source.empty() ? spec.manual : "seed " + r.source) + ")" +
+                                 (r.inferred ? "; this constraint is inferred from the manual, not stated" : ""));
+        if (!r.note.empty()) d.notes.push_back({r.note, std::nullopt});
+    }
+}
+
+class InvalidArgumentValue final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        std::optional<Plane> plane;
+        if (v.before.plane.known) plane = v.before.plane.value;
+        // Macro calls: the arguments written on the invoking line.
+        if (const MacroSpec* spec = macro::shop_macro(v.call); spec && macro::is_invocation(*v.call)) {
+            const MacroCall& c = *v.call;
+            Lookup lookup = [&](const ArgSpec& a) -> Known {
+                if (const MacroArg* m = macro::given(c, a); m && m->word)
+                    return {m->value.known ? std::optional(m->value.value) : std::nullopt, m->word->range};
+                return {};
+            };
+            check_values(ctx, *spec, lookup, plane, macro::call_range(c, v.block));
+            return;
+        }
+        // Fixed cycles: the addresses written on a block while the cycle is modal.
+        if (!v.after.cycle.known || !v.after.cycle.value || !v.after.cycle.value->macro.empty()) return;
+        const CycleSpec* cycle = ctx.catalog().find_cycle(v.after.cycle.value->code);
+        if (!cycle) return;
+        Lookup lookup = [&](const ArgSpec& a) -> Known {
+            const Word* w = v.block.find(a.name);
+            for (size_t i = 0; !w && i < a.aliases.size(); ++i) w = v.block.find(a.aliases[i]);
+            if (!w) return {};
+            std::optional<double> value = w->number;
+            if (!value && w->value != kNoExpr) value = ctx.eval(v.block, w->value, v.before);
+            return {value, w->range};
+        };
+        check_values(ctx, *cycle, lookup, plane, v.block.range);
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP103() { return std::make_unique<InvalidArgumentValue>(); }
+
+}  // namespace osplint

@@ -1,0 +1,32 @@
+// OSP105 repeat-count-on-macro-call: a Q repeat count on CALL/MODIN of these macros.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP105", "repeat-count-on-macro-call", Severity::Error,
+                         "A Q repeat count on CALL/MODIN of a macro that does not support repeated calls"};
+
+class RepeatCount final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !spec->q_repeat_unsafe || !c->repeat) return;
+        if (c->kind != CallKind::Call && c->kind != CallKind::Modin) return;
+        auto& d = ctx.report(kMeta, c->repeat->range,
+                             "Q repeats the call of " + spec->name + ", which does not support repeated calls: "
+                             "some arguments are sign-inverted inside the macro, so from the 2nd call on the tool "
+                             "may cut in the wrong direction without an alarm; write the call once per repetition");
+        d.notes.push_back({"\"Multiple calls of the subprogram with a Q command are not supported\" (seed 000 "
+                           "L108-120; seed 001 L112-123; seed 002 L115-137). The argument PQ is not a repeat count.",
+                           std::nullopt});
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP105() { return std::make_unique<RepeatCount>(); }
+
+}  // namespace osplint

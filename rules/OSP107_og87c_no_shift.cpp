@@ -1,0 +1,48 @@
+// OSP107 og87c-no-shift: no non-zero shift in the positioning plane (the
+// catalog's plane-dependent "at least one of" requirements; OG87C PI/PJ/PK).
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP107", "og87c-no-shift", Severity::Error,
+                         "OG87C has no non-zero tool shift in the positioning plane (alarm)"};
+
+class NoShift final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !macro::is_invocation(*c) || spec->at_least_one.empty()) return;
+        if (!v.before.plane.known) return;
+        int plane = macro::plane_number(v.before.plane.value);
+        for (const auto& req : spec->at_least_one) {
+            if (req.plane && req.plane != plane) continue;
+            bool some = false;
+            std::string names;
+            for (const auto& n : req.args) {
+                names += (names.empty() ? "" : " or ") + n;
+                const ArgSpec* a = spec->arg(n);
+                const MacroArg* m = a ? macro::given(*c, *a) : c->arg(n);
+                if (!m) continue;
+                if (m->value.known && m->value.value == 0) continue;  // an explicit zero is no shift
+                some = true;  // a non-zero value, or one osplint cannot know
+            }
+            if (some) continue;
+            std::string msg = spec->name + " has no tool shift in G" + std::to_string(plane) + ": give " + names +
+                              " (non-zero); without a shift the macro stops with an alarm";
+            if (req.inferred) msg += " (the manual states this for G17; for this plane it is read from the plane table)";
+            auto& d = ctx.report(kMeta, macro::call_range(*c, v.block), std::move(msg));
+            d.notes.push_back({"at least one of " + names + " is required by " + spec->manual +
+                                   (req.source.empty() ? std::string() : " (seed " + req.source + ")"),
+                               std::nullopt});
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP107() { return std::make_unique<NoShift>(); }
+
+}  // namespace osplint

@@ -1,0 +1,51 @@
+// OSP108 ignored-code-on-call-line: spindle/coolant codes the macro may ignore.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP108", "ignored-code-on-call-line", Severity::Warning,
+                         "M3/M4/M7/M8/M12 on a CALL/MODIN line, or M7/M8/M12 on the G114 block, may be ignored"};
+
+class IgnoredCode final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec) return;
+        std::vector<int> codes;
+        std::string what, source;
+        if ((c->kind == CallKind::Call || c->kind == CallKind::Modin) && macro::is_subprogram_macro(*spec)) {
+            codes = {3, 4, 7, 8, 12};
+            what = "the subprogram call block";
+            source = "seed 000 L42-44; seed 001 L39-41; seed 002 L48-50";
+        } else if (c->kind == CallKind::GCode && !spec->cancel.empty()) {
+            codes = {7, 8, 12};
+            what = "the declaration block";
+            source = "seed 003 L90";
+        } else {
+            return;
+        }
+        for (int code : codes) {
+            const Word* w = macro::m_code(*c, code);
+            if (!w) continue;
+            bool spindle = code == 3 || code == 4;
+            auto& d = ctx.report(kMeta, w->range,
+                                 "M" + std::to_string(code) + " on " + what + " of " + spec->name +
+                                     " may be ignored: " +
+                                     (spindle ? "the spindle direction may not be what you expect"
+                                              : "the cut may run without coolant") +
+                                     "; command it on the block before");
+            d.notes.push_back({"\"M3/4 and M7/8/12 codes commanded in the subprogram call block may be ignored\" (" +
+                                   source + ")",
+                               std::nullopt});
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP108() { return std::make_unique<IgnoredCode>(); }
+
+}  // namespace osplint

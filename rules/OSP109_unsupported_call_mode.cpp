@@ -1,0 +1,66 @@
+// OSP109 unsupported-call-mode: a macro used in a way its manual says does not work.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP109", "unsupported-call-mode", Severity::Error,
+                         "A macro is invoked in a form or mode its manual does not support"};
+
+std::string documented_forms(const MacroSpec& s) {
+    std::string out;
+    for (MacroForm f : s.forms) {
+        std::string name;
+        switch (f) {
+            case MacroForm::Call: name = "CALL"; break;
+            case MacroForm::Modin: name = "MODIN"; break;
+            case MacroForm::GCode:
+            case MacroForm::MCode: {
+                name = f == MacroForm::GCode ? "its G-code macro" : "its M-code macro";
+                for (const auto& code : s.codes) name += " " + code;
+                break;
+            }
+        }
+        out += (out.empty() ? "" : " or ") + name;
+    }
+    return out;
+}
+
+class UnsupportedCallMode final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || (c->kind != CallKind::Call && c->kind != CallKind::Modin)) return;
+        MacroForm form = c->kind == CallKind::Call ? MacroForm::Call : MacroForm::Modin;
+        if (!spec->has_form(form)) {
+            std::string used(macro::call_kind_name_short(c->kind));
+            std::string consequence = spec->g91_forbidden
+                                          ? "no alarm results, but the motion is wrong (positions are shifted)"
+                                          : "the manual documents no such use, so the motion is not defined";
+            auto& d = ctx.report(kMeta, c->name_range,
+                                 spec->name + " cannot be used with " + used + ": " + consequence +
+                                     "; use " + documented_forms(*spec));
+            d.notes.push_back({spec->manual + " documents " + spec->name + " only as " + documented_forms(*spec),
+                               std::nullopt});
+            return;
+        }
+        if (spec->g91_forbidden && v.before.distance.is(Distance::Incremental)) {
+            auto& d = ctx.report(kMeta, c->name_range,
+                                 spec->name + " cannot be used in G91 mode: its cutter path is not closed internally, "
+                                              "so no alarm results but the slot is cut at shifted positions; "
+                                              "command G90 before the call");
+            d.notes.push_back({"\"This program cannot be used with MODIN. It cannot be used in G91 mode either "
+                               "... In either case no alarm results; the motion is executed but is incorrect\" (" +
+                                   spec->manual + ")",
+                               std::nullopt});
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP109() { return std::make_unique<UnsupportedCallMode>(); }
+
+}  // namespace osplint

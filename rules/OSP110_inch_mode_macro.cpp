@@ -1,0 +1,30 @@
+// OSP110 inch-mode-macro: an mm-only macro used while inch units are in effect.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP110", "inch-mode-macro", Severity::Error,
+                         "A macro that works in mm only is used while inch units are in effect"};
+
+class InchModeMacro final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !spec->mm_only || !macro::is_invocation(*c)) return;
+        if (!v.after.units.is(Units::Inch)) return;
+        auto& d = ctx.report(kMeta, macro::call_range(*c, v.block),
+                             spec->name + " works in the mm unit system only, but inch units (G20) are in effect: "
+                                          "its internal distances are taken as inches and the tool moves 25.4 times "
+                                          "too far; command G21 and metric values");
+        d.notes.push_back({"\"Only the mm unit system can be used\" (" + spec->manual + ")", std::nullopt});
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP110() { return std::make_unique<InchModeMacro>(); }
+
+}  // namespace osplint

@@ -1,0 +1,41 @@
+// OSP111 g91-absolute-cycle-axis: under G91 the macros' cycle-axis arguments stay absolute.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP111", "g91-absolute-cycle-axis", Severity::Info,
+                         "A macro called under G91: its cycle-axis arguments are still absolute"};
+
+class G91AbsoluteCycleAxis final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !spec->cycle_args_absolute_g91 || spec->g91_forbidden) return;
+        if (c->kind != CallKind::Call && c->kind != CallKind::Modin) return;
+        if (!v.before.distance.is(Distance::Incremental)) return;
+        std::string cycle_args, plane_args;
+        for (const auto& a : spec->args) {
+            if (!macro::given(*c, a)) continue;
+            if (a.role == ArgRole::Cycle) cycle_args += (cycle_args.empty() ? "" : ", ") + a.name;
+            else if (a.role == ArgRole::Position) plane_args += (plane_args.empty() ? "" : ", ") + a.name;
+        }
+        std::string msg = spec->name + " is called under G91: ";
+        msg += cycle_args.empty() ? std::string("its cycle-axis arguments") : cycle_args;
+        msg += " are still measured from the work origin (absolute)";
+        if (!plane_args.empty()) msg += ", while " + plane_args + " are incremental";
+        msg += "; check that these values are meant that way";
+        auto& d = ctx.report(kMeta, c->name_range, std::move(msg));
+        d.notes.push_back({"\"Cycle-axis dimensions: command them as dimensions from the workpiece origin even "
+                           "during G91 mode. (The positioning-plane axes follow G90/G91.)\" (" + spec->manual + ")",
+                           std::nullopt});
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP111() { return std::make_unique<G91AbsoluteCycleAxis>(); }
+
+}  // namespace osplint

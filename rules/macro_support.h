@@ -1,0 +1,90 @@
+// Small helpers shared by the macro-contract rules (OSP1xx). They read the
+// MacroCall the analyzer resolved and the catalog entry; nothing here walks
+// the program or knows a particular macro.
+#pragma once
+
+#include <algorithm>
+#include <string>
+#include <vector>
+#include <string_view>
+
+#include "analyzer/catalog.h"
+#include "analyzer/rule.h"
+
+namespace osplint::macro {
+
+// A line that invokes a macro itself (CALL, MODIN, G-code or M-code macro),
+// as opposed to a positioning block that triggers an open MODIN.
+inline bool is_invocation(const MacroCall& c) {
+    return c.kind == CallKind::Call || c.kind == CallKind::Modin || c.kind == CallKind::GCode ||
+           c.kind == CallKind::MCode;
+}
+
+// A catalog macro (not a fixed cycle, not an unknown subprogram).
+inline const MacroSpec* shop_macro(const MacroCall* c) {
+    if (!c || !c->spec || c->spec->kind != SpecKind::Macro) return nullptr;
+    return c->spec;
+}
+
+// The subprogram macros that read their arguments as locals and cannot see
+// M52 on the call line (seeds 000-002), as opposed to G-code cycle macros.
+inline bool is_subprogram_macro(const MacroSpec& s) { return s.m52 == M52Mode::IgnoredUsePM52; }
+
+// The M word `code` written on the call line, or nullptr.
+inline const Word* m_code(const MacroCall& c, double code) {
+    for (const Word* w : c.m_codes)
+        if (w->number && *w->number == code) return w;
+    return nullptr;
+}
+
+// The argument as given (by its name or one of its aliases), or nullptr.
+inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) {
+    if (const MacroArg* m = c.arg(a.name)) return m;
+    for (const auto& alias : a.aliases)
+        if (const MacroArg* m = c.arg(alias)) return m;
+    return nullptr;
+}
+
+inline std::string source_ref(const MacroSpec& s, std::string_view line_source) {
+    std::string where = line_source.empty() ? s.source : std::string(line_source);
+    if (where.empty()) return s.manual;
+    return "seed " + where;
+}
+
+// Where to point a finding about the whole call.
+inline ByteRange call_range(const MacroCall& c, const Block& b) {
+    if (!c.name_range.empty()) return c.name_range;
+    return b.range;
+}
+
+inline std::string_view call_kind_name_short(CallKind k) {
+    switch (k) {
+        case CallKind::Call: return "CALL";
+        case CallKind::Modin: return "MODIN";
+        default: return "macro";
+    }
+}
+
+inline int plane_number(Plane p) { return p == Plane::G17 ? 17 : p == Plane::G18 ? 18 : 19; }
+
+// Levenshtein distance, for "did you mean" suggestions.
+inline size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j)
+            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        std::swap(prev, cur);
+    }
+    return prev[b.size()];
+}
+
+inline std::string format_number(double v) {
+    std::string s = std::to_string(v);
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+    return s;
+}
+
+}  // namespace osplint::macro
