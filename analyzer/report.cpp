@@ -28,11 +28,11 @@ std::string printable(std::string_view s) {
     return out;
 }
 
-nlohmann::json position_json(const Position& p) {
+nlohmann::ordered_json position_json(const Position& p) {
     return {{"line", p.line}, {"column", p.cp_col + 1}};
 }
 
-nlohmann::json range_json(const SourceRange& r) {
+nlohmann::ordered_json range_json(const SourceRange& r) {
     return {{"start", position_json(r.start)}, {"end", position_json(r.end)}};
 }
 
@@ -100,19 +100,19 @@ std::string render_text(const std::vector<FileResult>& results, const TextOption
 }
 
 std::string render_json(const std::vector<FileResult>& results) {
-    nlohmann::json files = nlohmann::json::array();
+    nlohmann::ordered_json files = nlohmann::ordered_json::array();
     for (const auto& r : results) {
-        nlohmann::json diags = nlohmann::json::array();
+        nlohmann::ordered_json diags = nlohmann::ordered_json::array();
         for (const auto& d : r.diagnostics) {
-            nlohmann::json notes = nlohmann::json::array();
+            nlohmann::ordered_json notes = nlohmann::ordered_json::array();
             for (const auto& n : d.notes) {
-                nlohmann::json jn = {{"message", n.message}};
+                nlohmann::ordered_json jn = {{"message", n.message}};
                 if (n.range) jn["range"] = range_json(*n.range);
                 notes.push_back(std::move(jn));
             }
-            nlohmann::json fixes = nlohmann::json::array();
+            nlohmann::ordered_json fixes = nlohmann::ordered_json::array();
             for (const auto& f : d.fixes) {
-                nlohmann::json edits = nlohmann::json::array();
+                nlohmann::ordered_json edits = nlohmann::ordered_json::array();
                 for (const auto& e : f.edits)
                     edits.push_back({{"range", range_json(e.range)}, {"replacement", e.replacement}});
                 fixes.push_back({{"title", f.title}, {"edits", std::move(edits)}});
@@ -126,17 +126,17 @@ std::string render_json(const std::vector<FileResult>& results) {
                              {"fixes", std::move(fixes)},
                              {"fingerprint", d.fingerprint}});
         }
-        nlohmann::json jf = {{"path", r.path}, {"diagnostics", std::move(diags)}};
+        nlohmann::ordered_json jf = {{"path", r.path}, {"diagnostics", std::move(diags)}};
         if (!r.io_error.empty()) jf["error"] = r.io_error;
         files.push_back(std::move(jf));
     }
     Summary s = summarize(results);
-    nlohmann::json root = {{"version", 1},
+    nlohmann::ordered_json root = {{"version", 1},
                            {"tool", {{"name", "osplint"}, {"version", std::string(version())}}},
                            {"files", std::move(files)},
                            {"summary", {{"files", s.files}, {"error", s.error}, {"warning", s.warning}, {"info", s.info}}}};
     // Invalid UTF-8 in messages (quoted source text) is replaced, never fatal.
-    return root.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+    return root.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace osplint

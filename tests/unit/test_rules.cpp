@@ -13,6 +13,7 @@
 #include <regex>
 
 #include "analyzer/embedded.h"
+#include "analyzer/programs.h"
 #include "expectations.h"
 #include "rules/registry.h"
 
@@ -70,6 +71,9 @@ TEST_CASE("every rule has fixtures that pass with only that rule enabled") {
             Config config = config_for(f.parent_path());
             AnalysisOptions options;
             options.only_rules = {std::string(meta.id)};
+            ProgramNames names;
+            collect_directory_program_names(f.parent_path(), names);
+            options.known_programs = &names;
             std::string text = read_file(f);
             auto expected = parse_expectations(text);
             for (const auto& e : expected) CHECK_MESSAGE(e.rule == meta.id, "fixture expects another rule: " << e.rule);
