@@ -1,0 +1,54 @@
+// OSP112 upper-limit-return-outside-g17: PM=52 / M52 asked for where the
+// macro's action sequence returns to the Z+ limit only in G17.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP112", "upper-limit-return-outside-g17", Severity::Warning,
+                         "PM=52/M52 given outside G17: the macro returns to the Z+ limit only in G17"};
+
+// The action step that performs the upper-limit return "in G17 mode".
+const ActionStep* g17_only_return(const MacroSpec& s) {
+    for (const auto& st : s.action)
+        if (st.when.find("G17") != std::string::npos &&
+            (st.when.find("PM=52") != std::string::npos || st.when.find("M52") != std::string::npos))
+            return &st;
+    return nullptr;
+}
+
+class UpperLimitReturnOutsideG17 final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !v.before.plane.known || v.before.plane.value == Plane::G17) return;
+        const ActionStep* step = g17_only_return(*spec);
+        if (!step) return;
+        const MacroArg* pm = c->arg("PM");
+        const Word* m52 = macro::m_code(*c, 52);
+        ByteRange where;
+        std::string asked;
+        if (pm && pm->value.is(52) && (c->kind != CallKind::ModinPositioning)) {
+            where = pm->word ? pm->word->range : macro::call_range(*c, v.block);
+            asked = "PM=52";
+        } else if (m52 && c->kind == CallKind::ModinPositioning) {
+            where = m52->range;  // M52 during MODIN is read by the macro
+            asked = "M52";
+        } else {
+            return;
+        }
+        auto& d = ctx.report(kMeta, where,
+                             asked + " asks " + spec->name + " for the upper-limit return, but the plane is " +
+                                 plane_name(v.before.plane.value) + ": the macro returns to the Z+ limit only in " +
+                                 "G17 mode, so the tool stays at the return level; retract explicitly after the call");
+        d.notes.push_back({"step " + step->step + ": \"" + step->text + "\" (seed " + step->source + ")", std::nullopt});
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP112() { return std::make_unique<UpperLimitReturnOutsideG17>(); }
+
+}  // namespace osplint

@@ -1,0 +1,41 @@
+// OSP113 shift-without-axis: a shift argument the plane table gives no axis in
+// the plane in effect (OG87C: PK in G17, PJ in G18, PI in G19).
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP113", "shift-without-axis", Severity::Warning,
+                         "A shift argument has no axis in the plane in effect (blank in the plane table)"};
+
+class ShiftWithoutAxis final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !macro::is_invocation(*c) || !v.before.plane.known) return;
+        int plane = macro::plane_number(v.before.plane.value);
+        for (const auto& a : spec->args) {
+            if (a.role != ArgRole::Shift) continue;
+            const MacroArg* m = macro::given(*c, a);
+            if (!m || !m->word) continue;
+            if (m->value.known && m->value.value == 0) continue;
+            if (a.axis(plane)) continue;
+            auto& d = ctx.report(kMeta, m->word->range,
+                                 a.name + " (" + a.meaning + ") has no axis in G" + std::to_string(plane) +
+                                     ": the plane table of " + spec->name + " leaves it blank, so this shift is "
+                                     "along the cycle axis and does not move the tool clear of the hole; give the "
+                                     "shift on a positioning-plane axis instead");
+            d.notes.push_back({"plane table: " + spec->manual +
+                                   (spec->plane_table.empty() ? std::string() : " (" + spec->plane_table + ")"),
+                               std::nullopt});
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP113() { return std::make_unique<ShiftWithoutAxis>(); }
+
+}  // namespace osplint

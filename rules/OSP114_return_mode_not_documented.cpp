@@ -1,0 +1,36 @@
+// OSP114 return-mode-not-documented: M53/M54 written on the call of a macro
+// whose manual documents no M53/M54 behaviour (OLPEX/OLPEY, OLAPX/OLAPY).
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP114", "return-mode-not-documented", Severity::Error,
+                         "M53/M54 on the call of a macro whose manual documents no return-level behaviour"};
+
+class ReturnModeNotDocumented final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || spec->m53 != M53Mode::Undocumented || !macro::is_subprogram_macro(*spec)) return;
+        if (c->kind != CallKind::Call && c->kind != CallKind::Modin) return;
+        for (double code : {53.0, 54.0}) {
+            const Word* w = macro::m_code(*c, code);
+            if (!w) continue;
+            auto& d = ctx.report(kMeta, w->range,
+                                 "M" + macro::format_number(code) + " on the call of " + spec->name +
+                                     ": its manual documents no M53/M54 return and no PT, so where the tool ends "
+                                     "after the cycle is not defined; remove it and retract explicitly");
+            d.notes.push_back({"the format of " + spec->name + " lists only PM=52 (" + spec->manual + ")",
+                               std::nullopt});
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP114() { return std::make_unique<ReturnModeNotDocumented>(); }
+
+}  // namespace osplint

@@ -1,0 +1,54 @@
+// OSP115 rapid-plunge: the macro plunges to the Z point at rapid unless a feed
+// argument is given (OKYLX/OKYLY step 4 without PFA).
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP115", "rapid-plunge", Severity::Warning,
+                         "The macro plunges to the Z point at rapid because its plunge feed is omitted"};
+
+// The action step that reaches PZ at rapid unless a feed argument is given:
+// its feed reads "rapid; G1 F=<ARG> when <ARG> is given".
+std::optional<std::pair<const ActionStep*, std::string>> rapid_plunge(const MacroSpec& s) {
+    for (const auto& st : s.action) {
+        if (st.target != "PZ" || st.feed.rfind("rapid", 0) != 0) continue;
+        auto f = st.feed.find("F=");
+        if (f == std::string::npos) continue;
+        std::string arg;
+        for (size_t i = f + 2; i < st.feed.size() && std::isalnum(static_cast<unsigned char>(st.feed[i])); ++i)
+            arg += st.feed[i];
+        if (!arg.empty() && s.arg(arg)) return std::make_pair(&st, arg);
+    }
+    return std::nullopt;
+}
+
+class RapidPlunge final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || !macro::is_invocation(*c)) return;
+        auto plunge = rapid_plunge(*spec);
+        if (!plunge) return;
+        const ArgSpec* feed = spec->arg(plunge->second);
+        if (macro::given(*c, *feed)) return;
+        auto& d = ctx.report(kMeta, macro::call_range(*c, v.block),
+                             spec->name + " without " + feed->name + " plunges to the Z point at rapid (step " +
+                                 plunge->first->step + ": " + plunge->first->text + ", " + plunge->first->feed +
+                                 "): a rapid plunge into the slot start breaks the cutter if anything is in the "
+                                 "way; give " + feed->name + "=<feed> for a G1 plunge");
+        d.notes.push_back({"seed " + plunge->first->source + "; " + feed->name + ": " + feed->meaning, std::nullopt});
+        // The manual's own caution about this plunge, where the catalog has it.
+        for (const auto& n : spec->notes)
+            if (n.text.find(feed->name) != std::string::npos)
+                d.notes.push_back({n.text + " (seed " + n.source + ")", std::nullopt});
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP115() { return std::make_unique<RapidPlunge>(); }
+
+}  // namespace osplint
