@@ -140,7 +140,7 @@ struct AtLeastOne {
 };
 
 // A relation between argument values: `left op right`, where both sides are
-// simple expressions over argument names and numbers (see `Expr` below).
+// simple expressions over argument names and numbers (see parse_catalog_expr).
 struct Relation {
     std::string left, op, right;  // op: > >= < <= == !=
     int plane = 0;                // holds in this plane only (0 = any)
@@ -205,7 +205,8 @@ struct MacroSpec {
     std::vector<std::string> codes;  // G/M codes it is registered to by default ("G114")
     std::string cancel;   // the macro that cancels this one ("OC84L")
     std::string cancels;  // the macro this one cancels
-    std::string plane_table;
+    std::string plane_table;  // id of the manual's plane table
+    std::string common;       // id of the manual's common rules
     std::vector<ArgSpec> args;  // in manual order
     std::vector<AtLeastOne> at_least_one;
     std::vector<Relation> relations;
@@ -233,6 +234,15 @@ struct PlaneTable {
     std::string reading;
 };
 
+// The common rules of one manual (cautions shared by all its macros).
+struct CommonRules {
+    std::string id;  // "seed000"
+    std::string title;
+    std::string source;
+    std::vector<CatalogNote> notes;
+    std::vector<Reading> readings;
+};
+
 class Catalog {
 public:
     // The shipped catalog (data/macros.toml, embedded). Throws ConfigError if broken.
@@ -247,7 +257,9 @@ public:
     void merge(const toml::table& macros_table, const std::string& origin);
 
     // Registers a G/M-code macro ("G114" -> "OG84L"); an empty macro name
-    // removes the registration. Codes are normalised ("g0114" -> "G114").
+    // removes the registration. Codes are normalised ("g0114" -> "G114");
+    // anything but a G or M code throws std::invalid_argument. The macro need
+    // not exist yet (find_by_code then returns nullptr).
     void register_code(std::string code, std::string macro);
     const MacroSpec* find_by_code(std::string_view code) const;
     const std::map<std::string, std::string>& registrations() const { return codes_; }
@@ -256,6 +268,7 @@ public:
     const MacroSpec* find(std::string_view name) const;
     const CycleSpec* find_cycle(int gcode) const;
     const PlaneTable* plane_table(std::string_view id) const;
+    const CommonRules* common_rules(std::string_view id) const;
 
     // In catalog order (the file's order, then macros added by configuration).
     const std::deque<MacroSpec>& macros() const { return macros_; }
@@ -269,6 +282,7 @@ private:
     std::deque<CycleSpec> cycles_;
     std::map<std::string, std::string> codes_;  // "G114" -> "OG84L"
     std::vector<PlaneTable> plane_tables_;
+    std::vector<CommonRules> common_;
 };
 
 // Names as written in the catalog files ("required", "cycle", "MODIN", ...).

@@ -1,0 +1,729 @@
+// The macro catalog: the shipped data against the manual tables, the schema
+// checks, configuration merges and the explain card.
+#include <doctest/doctest.h>
+#include <toml++/toml.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "catalog.h"
+#include "errors.h"
+
+using namespace osplint;
+
+namespace {
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    REQUIRE_MESSAGE(in.good(), "cannot open " << path);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+const std::string& catalog_text() {
+    static const std::string text = read_file(std::string(OSPLINT_SOURCE_DIR) + "/data/macros.toml");
+    return text;
+}
+
+Catalog shipped() { return Catalog::from_toml_text(catalog_text(), "data/macros.toml"); }
+
+toml::table parse_config(std::string_view text) { return toml::parse(text, std::string_view("osplint.toml")); }
+
+// Runs `fn` and returns the ConfigError it throws (fails the test if none).
+template <class Fn>
+ConfigError expect_config_error(Fn&& fn) {
+    try {
+        fn();
+    } catch (const ConfigError& e) {
+        return e;
+    }
+    FAIL("no ConfigError thrown");
+    return ConfigError("", 0, "", "");
+}
+
+const ArgSpec& arg_of(const Catalog& cat, std::string_view macro, std::string_view arg) {
+    const MacroSpec* m = cat.find(macro);
+    REQUIRE_MESSAGE(m != nullptr, "no macro " << macro);
+    const ArgSpec* a = m->arg(arg);
+    REQUIRE_MESSAGE(a != nullptr, macro << " has no argument " << arg);
+    return *a;
+}
+
+// The status of each P-name on a printed format line: outside parentheses
+// = required, inside = optional.
+std::map<std::string, ArgInFormat> scan_format(std::string_view text) {
+    std::map<std::string, ArgInFormat> out;
+    int depth = 0;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        char c = text[i];
+        if (c == '(') ++depth;
+        else if (c == ')') --depth;
+        else if (c == 'P' && (i == 0 || text[i - 1] == ' ' || text[i - 1] == '(')) {
+            std::size_t j = i + 1;
+            while (j < text.size() && std::isupper(static_cast<unsigned char>(text[j]))) ++j;
+            if (j < text.size() && text[j] == '=' && j > i + 1)
+                out[std::string(text.substr(i, j - i))] = depth > 0 ? ArgInFormat::Optional : ArgInFormat::Required;
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("the shipped catalog parses, and builtin() serves the embedded copy") {
+    Catalog cat = shipped();
+    CHECK(cat.macros().size() == 16);
+    Catalog builtin = Catalog::builtin();
+    REQUIRE(builtin.macros().size() == cat.macros().size());
+    for (std::size_t i = 0; i < cat.macros().size(); ++i) CHECK(builtin.macros()[i].name == cat.macros()[i].name);
+    CHECK(builtin.cycles().size() == cat.cycles().size());
+}
+
+TEST_CASE("every macro of the manuals is present with its call forms, in manual order") {
+    Catalog cat = shipped();
+    struct Expect {
+        const char* name;
+        std::vector<MacroForm> forms;
+    };
+    const std::vector<Expect> expected = {
+        {"OG87C", {MacroForm::Modin}},
+        {"OG87N", {MacroForm::Modin}},
+        {"OG87K", {MacroForm::Modin}},
+        {"OG87M", {MacroForm::Modin}},
+        {"OZAGR", {MacroForm::Call}},
+        {"OM100", {MacroForm::Call}},
+        {"OLPEX", {MacroForm::Call}},
+        {"OLPEY", {MacroForm::Call}},
+        {"OLAPX", {MacroForm::Call, MacroForm::GCode}},
+        {"OLAPY", {MacroForm::Call, MacroForm::GCode}},
+        {"OKYOX", {MacroForm::Call, MacroForm::Modin, MacroForm::GCode}},
+        {"OKYOY", {MacroForm::Call, MacroForm::Modin, MacroForm::GCode}},
+        {"OKYLX", {MacroForm::Call}},
+        {"OKYLY", {MacroForm::Call}},
+        {"OG84L", {MacroForm::GCode}},
+        {"OC84L", {MacroForm::MCode}},
+    };
+    REQUIRE(cat.macros().size() == expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        CAPTURE(expected[i].name);
+        const MacroSpec* m = cat.find(expected[i].name);
+        REQUIRE(m != nullptr);
+        CHECK(m->forms == expected[i].forms);
+        CHECK(cat.macros()[i].name == expected[i].name);  // stable, manual order
+        CHECK(!m->title.empty());
+        CHECK(!m->family.empty());
+        CHECK(!m->manual.empty());
+        CHECK(!m->source.empty());
+    }
+    CHECK(cat.find("ozagr") == cat.find("OZAGR"));  // case-insensitive
+    CHECK(cat.find("OXXXX") == nullptr);
+}
+
+TEST_CASE("OG87C against its manual table (000:L138-188)") {
+    Catalog cat = shipped();
+    const MacroSpec& m = *cat.find("OG87C");
+    for (const char* a : {"PR", "PZ", "PC", "PD"}) {
+        CAPTURE(a);
+        CHECK(arg_of(cat, "OG87C", a).required());
+    }
+    CHECK_FALSE(arg_of(cat, "OG87C", "PI").required());  // A-07: default 0, at-least-one rule
+    CHECK(arg_of(cat, "OG87C", "PI").default_value == 0.0);
+    CHECK(arg_of(cat, "OG87C", "PI").format_status(MacroForm::Modin) == ArgInFormat::Required);
+    CHECK(arg_of(cat, "OG87C", "PG").allowed == std::vector<double>{2, 3});
+    CHECK(arg_of(cat, "OG87C", "PG").default_value == 3.0);
+    CHECK(arg_of(cat, "OG87C", "PM").allowed == std::vector<double>{52});
+    CHECK(m.m52 == M52Mode::IgnoredUsePM52);
+    CHECK(m.m53 == M53Mode::ReturnToPT);
+    CHECK(m.g60_ncyl_forbidden);
+    CHECK(m.vc120_128_clobbered);
+    CHECK(m.q_repeat_unsafe);
+    CHECK(m.mm_only);
+    CHECK(m.cycle_args_absolute_g91);
+    // Note 2 and its plane-table inference for G18/G19.
+    REQUIRE(m.at_least_one.size() == 3);
+    CHECK(m.at_least_one[0].plane == 17);
+    CHECK(m.at_least_one[0].args == std::vector<std::string>{"PI", "PJ"});
+    CHECK_FALSE(m.at_least_one[0].inferred);
+    CHECK(m.at_least_one[1].plane == 18);
+    CHECK(m.at_least_one[1].args == std::vector<std::string>{"PI", "PK"});
+    CHECK(m.at_least_one[1].inferred);
+    CHECK(m.at_least_one[2].args == std::vector<std::string>{"PJ", "PK"});
+    // Plane table: PK has no axis in G17, PI none in G19.
+    CHECK_FALSE(arg_of(cat, "OG87C", "PK").axis(17).has_value());
+    CHECK(arg_of(cat, "OG87C", "PK").axis(18) == 'Z');
+    CHECK_FALSE(arg_of(cat, "OG87C", "PI").axis(19).has_value());
+    CHECK(m.reading("A-07") != nullptr);
+    CHECK(m.reading("A-07")->open);
+}
+
+TEST_CASE("back-counterbore macros: strokes, undocumented PP/PD, defaults") {
+    Catalog cat = shipped();
+    for (const char* m : {"OG87N", "OG87K", "OG87M"}) {
+        CAPTURE(m);
+        const ArgSpec& pp = arg_of(cat, m, "PP");
+        CHECK(pp.undocumented);
+        CHECK(pp.omitted == ArgOmitted::Unknown);
+        CHECK(arg_of(cat, m, "PL").required());
+        CHECK(arg_of(cat, m, "PL").role == ArgRole::Stroke);
+    }
+    CHECK(arg_of(cat, "OG87N", "PI").required());
+    CHECK(arg_of(cat, "OG87N", "PJ").required());
+    CHECK(cat.find("OG87K")->arg("PI") == nullptr);  // A-14: figure label only
+    CHECK(arg_of(cat, "OG87K", "PFB").format_status(MacroForm::Modin) == ArgInFormat::Absent);  // A-13
+
+    const ArgSpec& pd = arg_of(cat, "OZAGR", "PD");
+    CHECK(pd.undocumented);
+    CHECK(arg_of(cat, "OZAGR", "PL").default_value == 5.0);
+    CHECK(arg_of(cat, "OZAGR", "PL").omitted == ArgOmitted::Default);
+    CHECK(arg_of(cat, "OM100", "PL").default_value == 5.0);
+    CHECK(arg_of(cat, "OM100", "PFA").default_value == 1000.0);
+    CHECK(arg_of(cat, "OM100", "PFA").default_text == "1000");
+    CHECK(arg_of(cat, "OZAGR", "PFA").default_text == "PF*4");
+    CHECK_FALSE(arg_of(cat, "OZAGR", "PFA").default_value.has_value());
+    // A-17: PT is not required by itself; M53 without PT is the alarm.
+    CHECK(arg_of(cat, "OZAGR", "PT").omitted == ArgOmitted::None);
+    CHECK(arg_of(cat, "OM100", "PT").omitted == ArgOmitted::None);
+    CHECK(cat.find("OZAGR")->m53 == M53Mode::ReturnToPT);
+    CHECK(cat.find("OZAGR")->reading("A-17")->open);
+    for (const char* a : {"PR", "PZ", "PI"}) {
+        CHECK(arg_of(cat, "OZAGR", a).required());
+        CHECK(arg_of(cat, "OM100", a).required());
+    }
+}
+
+TEST_CASE("wall finishing: OLPEX table wins, predecessors keep PQ required") {
+    Catalog cat = shipped();
+    const ArgSpec& pk = arg_of(cat, "OLPEX", "PK");
+    CHECK(pk.required());  // A-24
+    CHECK(pk.format_status(MacroForm::Call) == ArgInFormat::Optional);
+    CHECK(pk.sign == ArgSign::NonNegative);
+    CHECK(arg_of(cat, "OLPEX", "PA").sign == ArgSign::NonNegative);
+    CHECK_FALSE(arg_of(cat, "OLPEX", "PA").required());
+    CHECK(arg_of(cat, "OLPEX", "PI").negative_allowed);
+    CHECK(cat.find("OLPEX")->arg("PT") == nullptr);  // A-23
+    CHECK(cat.find("OLPEX")->m53 == M53Mode::Undocumented);
+    // Travel axis and end-point vectors per macro (001:L61-87, L267-270).
+    CHECK(arg_of(cat, "OLPEX", "PI").axis(18) == 'Z');
+    CHECK(arg_of(cat, "OLPEY", "PI").axis(18) == 'X');
+    CHECK(arg_of(cat, "OLPEX", "PJ").axis(17) == 'Y');
+    CHECK(arg_of(cat, "OLPEY", "PJ").axis(17) == 'X');
+    CHECK(arg_of(cat, "OLPEX", "PB").axis(19) == 'Y');
+    CHECK(arg_of(cat, "OLPEY", "PB").axis(19) == 'Z');
+
+    // The manual's example OEX01 (001:L313-343) gives no PQ: it must be reported.
+    for (const char* name : {"OLAPX", "OLAPY"}) {
+        CAPTURE(name);
+        const MacroSpec& m = *cat.find(name);
+        std::set<std::string> given = {"PX", "PY", "PR", "PZ", "PI", "PK", "PP", "PF"};
+        std::vector<std::string> missing;
+        for (const auto& a : m.args)
+            if (a.required() && !given.count(a.name)) missing.push_back(a.name);
+        CHECK(missing == std::vector<std::string>{"PQ"});
+        REQUIRE(m.gcode_form.has_value());
+        const ArgSpec* q = m.arg_for_address("Q");
+        REQUIRE(q != nullptr);
+        CHECK(q->name == "PQ");  // in the G-code form Q is the pitch (A-28)
+        CHECK(q->role == ArgRole::Pitch);
+        CHECK(m.arg_for_address("FA")->name == "PFA");
+        CHECK(m.q_repeat_unsafe);
+    }
+}
+
+TEST_CASE("keyways: OKYLX follows its table, not the copied format line (A-34)") {
+    Catalog cat = shipped();
+    for (const char* name : {"OKYLX", "OKYLY"}) {
+        CAPTURE(name);
+        const MacroSpec& m = *cat.find(name);
+        CHECK(m.arg("PD") != nullptr);
+        CHECK(m.arg("PD")->required());
+        CHECK(m.arg("PQ") == nullptr);
+        CHECK(m.arg("PK") == nullptr);
+        CHECK(m.arg("PP") == nullptr);
+        CHECK(m.g91_forbidden);
+        CHECK(m.forms == std::vector<MacroForm>{MacroForm::Call});
+        CHECK(m.reading("A-34") != nullptr);
+    }
+    // OKYOX: PX/PY required by the CALL format only; the table says none (A-33).
+    const ArgSpec& px = arg_of(cat, "OKYOX", "PX");
+    CHECK(px.omitted == ArgOmitted::None);
+    CHECK(px.format_status(MacroForm::Call) == ArgInFormat::Required);
+    CHECK(px.format_status(MacroForm::Modin) == ArgInFormat::Absent);
+    for (const char* a : {"PR", "PZ", "PI", "PJ", "PD"}) CHECK(arg_of(cat, "OKYOX", a).required());
+    CHECK(arg_of(cat, "OKYOX", "PJ").negative_allowed);
+    CHECK(cat.find("OKYOX")->g60_ncyl_forbidden);
+    CHECK(cat.find("OKYOX")->arg_for_address("T")->name == "PT");
+}
+
+TEST_CASE("OG84L is a G-code macro on G114, cancelled by OC84L on M204") {
+    Catalog cat = shipped();
+    const MacroSpec* g114 = cat.find_by_code("G114");
+    REQUIRE(g114 != nullptr);
+    CHECK(g114->name == "OG84L");
+    CHECK(cat.find_by_code("g0114") == g114);
+    CHECK(g114->arg("Z")->required());
+    CHECK(g114->arg("R")->required());
+    CHECK(g114->arg("PZ") == g114->arg("Z"));  // A-40 alias
+    CHECK(g114->arg("FA")->omitted == ArgOmitted::Default);
+    CHECK(g114->arg("FA")->default_text == "PF (= F)");
+    CHECK(g114->arg("S")->format_status(MacroForm::GCode) == ArgInFormat::Absent);  // A-42
+    CHECK_FALSE(g114->cycle_args_absolute_g91);
+    CHECK(g114->m52 == M52Mode::FixedCycle);
+    CHECK(g114->m53 == M53Mode::FixedCycle);
+    CHECK_FALSE(g114->g60_ncyl_forbidden);
+    CHECK(g114->tapping);
+    CHECK(g114->required_scope == RequiredScope::CycleStart);
+    CHECK(g114->cancel == "OC84L");
+
+    const MacroSpec* m204 = cat.find_by_code("M204");
+    REQUIRE(m204 != nullptr);
+    CHECK(m204->name == "OC84L");
+    CHECK(m204->args.empty());
+    CHECK(m204->cancels == "OG84L");
+    CHECK(cat.find_by_code("G115") == nullptr);
+}
+
+TEST_CASE("plane mapping: cycle-axis arguments follow the plane's cycle axis") {
+    Catalog cat = shipped();
+    CHECK(arg_of(cat, "OZAGR", "PR").axis(17) == 'Z');
+    CHECK(arg_of(cat, "OZAGR", "PR").axis(18) == 'Y');
+    CHECK(arg_of(cat, "OZAGR", "PR").axis(19) == 'X');
+    CHECK(arg_of(cat, "OG87C", "PZ").axis(18) == 'Y');
+    CHECK(arg_of(cat, "OG87C", "PX").axis(18) == 'Z');
+    CHECK(arg_of(cat, "OG87C", "PY").axis(19) == 'Z');
+    CHECK_FALSE(arg_of(cat, "OG87C", "PR").axis(16).has_value());
+
+    // Every argument named in a printed plane table maps as the table says:
+    // bare letters literally, "L(n)" cells by axis number.
+    for (const auto& m : cat.macros()) {
+        const PlaneTable* pt = cat.plane_table(m.plane_table);
+        if (!pt) continue;
+        for (std::size_t c = 0; c < pt->columns.size(); ++c) {
+            std::string col = pt->columns[c];
+            std::string argname = col.substr(0, col.find(' '));
+            if (col.find(' ') != std::string::npos && col.substr(col.find(' ') + 1) != m.name) continue;
+            if (m.plane_table == "seed000" && (argname == "PI" || argname == "PJ" || argname == "PK") &&
+                m.name != "OG87C")
+                continue;  // 000:L76: PI/PJ/PK of the table apply to OG87C only
+            const ArgSpec* a = m.arg(argname);
+            if (!a) continue;
+            for (int row = 0; row < 3; ++row) {
+                CAPTURE(m.name);
+                CAPTURE(argname);
+                CAPTURE(row);
+                std::string cell = pt->rows[row][c];
+                char want = 0;
+                if (cell.size() == 4) {  // "X(2)": the axis numbered like this column's G17 cell
+                    char number = pt->rows[0][c][2];
+                    for (std::size_t k = 0; k < 3; ++k)
+                        if (pt->rows[row][k][2] == number) want = pt->rows[row][k][0];
+                } else if (!cell.empty()) {
+                    want = cell[0];
+                }
+                CHECK(a->axes[row] == want);
+            }
+        }
+    }
+}
+
+TEST_CASE("format lines agree with the per-argument format column") {
+    Catalog cat = shipped();
+    for (const auto& m : cat.macros()) {
+        for (const auto& f : m.formats) {
+            CAPTURE(m.name);
+            CAPTURE(f.text);
+            if (f.form == MacroForm::Call) CHECK(f.text.rfind("CALL " + m.name + " ", 0) == 0);
+            if (f.form == MacroForm::Modin) CHECK(f.text.rfind("MODIN " + m.name + " ", 0) == 0);
+            auto printed = scan_format(f.text);
+            for (const auto& [name, status] : printed) {
+                CAPTURE(name);
+                const ArgSpec* a = m.arg(name);
+                if (!a) {
+                    CHECK(m.reading("A-34") != nullptr);  // only OKYLX/OKYLY print foreign names
+                    continue;
+                }
+                CHECK(a->format_status(f.form) == status);
+            }
+            for (const auto& a : m.args)
+                if (!printed.count(a.name) && f.form != MacroForm::GCode)
+                    CHECK_MESSAGE(a.format_status(f.form) == ArgInFormat::Absent, a.name);
+        }
+    }
+}
+
+TEST_CASE("fixed cycles of seed 004") {
+    Catalog cat = shipped();
+    for (int g : {77, 78, 79, 81, 82, 83, 84, 85, 86, 87, 88, 89, 186, 73, 74, 76}) {
+        CAPTURE(g);
+        const CycleSpec* c = cat.find_cycle(g);
+        REQUIRE(c != nullptr);
+        CHECK(c->kind == SpecKind::FixedCycle);
+        CHECK(c->required_scope == RequiredScope::CycleStart);
+    }
+    CHECK(cat.find_cycle(80) == nullptr);
+    for (int g : {73, 74, 76, 79, 89, 186}) CHECK_FALSE(cat.find_cycle(g)->args_documented);
+
+    const CycleSpec& g78 = *cat.find_cycle(78);
+    CHECK(g78.arg("Q")->required());
+    CHECK(g78.arg("K")->required());
+    CHECK(g78.arg("Q")->sign == ArgSign::Positive);
+    CHECK(g78.arg("K")->sign == ArgSign::Positive);
+    CHECK(g78.arg("Q")->always_incremental);
+    CHECK(g78.arg("K")->always_incremental);
+    REQUIRE(g78.relations.size() == 1);
+    CHECK(g78.relations[0].left == "Q");
+    CHECK(g78.relations[0].op == ">");
+    CHECK(g78.relations[0].right == "K");
+    CHECK(g78.relations[0].source == "004:L80");
+
+    for (int g : {81, 82, 84, 85, 86})
+        for (const char* a : {"Z", "R", "F"}) {
+            CAPTURE(g);
+            CAPTURE(a);
+            CHECK(cat.find_cycle(g)->arg(a)->required());
+        }
+    CHECK(cat.find_cycle(83)->arg("Q")->required());
+    CHECK(cat.find_cycle(87)->arg("Q")->required());
+    CHECK(cat.find_cycle(83)->arg("J")->always_incremental);
+    CHECK_FALSE(cat.find_cycle(81)->arg("X")->required());
+    CHECK(cat.find_cycle(81)->arg("L")->g91_only);
+    CHECK(cat.find_cycle(84)->tapping);
+    CHECK_FALSE(cat.find_cycle(81)->tapping);
+    CHECK(cat.find_cycle(84)->formats.size() == 2);
+    // G88: both Q and K accepted as the Z shift (A-47), neither required.
+    CHECK(cat.find_cycle(88)->arg("Q") != nullptr);
+    CHECK(cat.find_cycle(88)->arg("K") != nullptr);
+    CHECK_FALSE(cat.find_cycle(88)->arg("K")->required());
+    CHECK(cat.find_cycle(88)->arg("I")->omitted == ArgOmitted::Default);
+}
+
+TEST_CASE("action sequences carry evaluable cycle-axis targets") {
+    Catalog cat = shipped();
+    auto targets = [&](std::string_view name) {
+        std::vector<std::string> out;
+        for (const auto& st : cat.find(name)->action)
+            if (!st.target.empty()) out.push_back(st.step + ":" + st.target);
+        return out;
+    };
+    CHECK(targets("OZAGR") == std::vector<std::string>{"2:PR", "3a:PR-PJ", "3b:PR-PJ-PD", "3c:PZ-PI-PL", "5:PZ",
+                                                       "7:PZ-1", "9:PZ+2", "10:PR", "11:PT"});
+    CHECK(targets("OM100") ==
+          std::vector<std::string>{"2:PR", "3a:PZ+PK+PL", "3b:PZ+PK", "4:PZ-PL", "6:PZ", "9:PR", "10:PT"});
+    CHECK(targets("OG87C") == std::vector<std::string>{"2:PA", "4:PR", "8:PZ", "11:PR", "14:PA", "16:PT"});
+    CHECK(targets("OG84L") == std::vector<std::string>{"2:R", "3:Z+L", "5:R"});
+    // The T-point return happens only in M53 mode.
+    CHECK(cat.find("OG87C")->action.at(15).when == "M53");
+    // Every expression in the catalog parses and names arguments of its macro.
+    for (const auto* list : {&cat.macros(), &cat.cycles()})
+        for (const auto& m : *list) {
+            for (const auto& st : m.action)
+                for (const std::string* e : {&st.target, &st.by}) {
+                    if (e->empty()) continue;
+                    auto terms = parse_catalog_expr(*e);
+                    REQUIRE_MESSAGE(terms.has_value(), m.name << " " << *e);
+                    for (const auto& t : *terms)
+                        if (!t.name.empty()) CHECK_MESSAGE(m.arg(t.name) != nullptr, m.name << " " << t.name);
+                }
+        }
+}
+
+TEST_CASE("catalog expressions") {
+    auto t = parse_catalog_expr("PZ-PI-PL");
+    REQUIRE(t.has_value());
+    REQUIRE(t->size() == 3);
+    CHECK((*t)[0].name == "PZ");
+    CHECK((*t)[0].sign == 1);
+    CHECK((*t)[1].sign == -1);
+    CHECK((*t)[2].name == "PL");
+    auto n = parse_catalog_expr("PZ + 1.5");
+    REQUIRE(n.has_value());
+    CHECK((*n)[1].name.empty());
+    CHECK((*n)[1].number == 1.5);
+    CHECK(parse_catalog_expr("-PA")->at(0).sign == -1);
+    CHECK_FALSE(parse_catalog_expr("PZ*2").has_value());
+    CHECK_FALSE(parse_catalog_expr("PZ+").has_value());
+    CHECK_FALSE(parse_catalog_expr("").has_value());
+}
+
+TEST_CASE("the shipped catalog is ASCII") {
+    for (unsigned char c : catalog_text()) {
+        if (c >= 0x80) {
+            FAIL("non-ASCII byte in data/macros.toml");
+            break;
+        }
+    }
+    CHECK(catalog_text().size() > 1000);
+}
+
+TEST_CASE("merge: a shop macro, a patched reading and a moved registration") {
+    Catalog cat = shipped();
+    const MacroSpec* ozagr_before = cat.find("OZAGR");
+    cat.merge(parse_config(R"(
+[OFACE]
+family = "face-milling"
+title = "Shop face milling"
+forms = ["CALL"]
+codes = ["G115"]
+[OFACE.arg]
+PZ = { meaning = "Z of the face", omitted = "required", role = "cycle", axis = "cycle", in_format = "required" }
+PF = { meaning = "feed", omitted = "default", default = 800, role = "feed" }
+
+[OZAGR.arg.PT]
+omitted = "required"
+
+[OG84L]
+codes = ["G113"]
+)"),
+              "osplint.toml");
+    const MacroSpec* face = cat.find("OFACE");
+    REQUIRE(face != nullptr);
+    CHECK(face->origin == "osplint.toml");
+    CHECK(face->arg("PZ")->required());
+    CHECK(face->arg("PZ")->axis(19) == 'X');
+    CHECK(face->arg("PF")->default_value == 800.0);
+    CHECK(cat.find_by_code("G115") == face);
+    CHECK(cat.macros().back().name == "OFACE");
+    // The patch changed only PT's reading; the rest of OZAGR is intact and in place.
+    CHECK(cat.find("OZAGR") == ozagr_before);
+    CHECK(arg_of(cat, "OZAGR", "PT").required());
+    CHECK(arg_of(cat, "OZAGR", "PT").meaning == "return position for M53");
+    CHECK(arg_of(cat, "OZAGR", "PR").required());
+    CHECK(cat.find("OZAGR")->args.size() == 15);
+    // OG84L moved from G114 to G113.
+    CHECK(cat.find_by_code("G113")->name == "OG84L");
+    CHECK(cat.find_by_code("G114") == nullptr);
+    CHECK(cat.find_by_code("M204")->name == "OC84L");
+}
+
+TEST_CASE("merge: replace = true redefines a macro; register_code overrides") {
+    Catalog cat = shipped();
+    cat.merge(parse_config(R"(
+[OG87K]
+replace = true
+title = "Shop version"
+forms = ["CALL"]
+[OG87K.arg.PQ]
+omitted = "required"
+role = "pitch"
+)"),
+              "shop.toml");
+    const MacroSpec* k = cat.find("OG87K");
+    REQUIRE(k != nullptr);
+    CHECK(k->title == "Shop version");
+    CHECK(k->args.size() == 1);
+    CHECK(k->arg("PL") == nullptr);
+    CHECK(k->forms == std::vector<MacroForm>{MacroForm::Call});
+
+    // A replacement keeps the registrations unless it names its own codes.
+    cat.merge(parse_config("[OG84L]\nreplace = true\nforms = [\"GCODE\"]\n"), "shop.toml");
+    CHECK(cat.find_by_code("G114") == cat.find("OG84L"));
+    CHECK(cat.find("OG84L")->args.empty());
+
+    cat.register_code("G114", "OLAPX");
+    CHECK(cat.find_by_code("G114")->name == "OLAPX");
+    cat.register_code("g114", "");
+    CHECK(cat.find_by_code("G114") == nullptr);
+    CHECK_THROWS_AS(cat.register_code("X10", "OZAGR"), std::invalid_argument);
+}
+
+TEST_CASE("bad configuration entries name the file, line and key") {
+    Catalog cat = shipped();
+    SUBCASE("unknown key") {
+        auto e = expect_config_error([&] {
+            cat.merge(parse_config("[OZAGR]\ntitle = \"x\"\n\n[OZAGR.arg.PT]\nomited = \"required\"\n"), "osplint.toml");
+        });
+        CHECK(e.file() == "osplint.toml");
+        CHECK(e.line() == 5);
+        CHECK(e.key() == "macro.OZAGR.arg.PT.omited");
+        CHECK(std::string(e.what()).find("unknown key") != std::string::npos);
+    }
+    SUBCASE("wrong type") {
+        auto e = expect_config_error([&] {
+            cat.merge(parse_config("[OZAGR]\n\nmm_only = \"yes\"\n"), "osplint.toml");
+        });
+        CHECK(e.line() == 3);
+        CHECK(e.key() == "macro.OZAGR.mm_only");
+        CHECK(std::string(e.what()).find("expected true or false") != std::string::npos);
+    }
+    SUBCASE("bad enum value") {
+        auto e = expect_config_error([&] {
+            cat.merge(parse_config("[OSHOP]\nforms = [\"CALL\"]\n[OSHOP.arg.PZ]\nrole = \"cycle\"\nomitted = \"maybe\"\n"),
+                      "osplint.toml");
+        });
+        CHECK(e.line() == 5);
+        CHECK(e.key() == "macro.OSHOP.arg.PZ.omitted");
+        CHECK(std::string(e.what()).find("\"required\"") != std::string::npos);
+    }
+    SUBCASE("bad call form inside an array") {
+        auto e = expect_config_error([&] {
+            cat.merge(parse_config("[OSHOP]\ntitle = \"t\"\nforms = [\"CALL\",\n  \"JUMP\"]\n"), "osplint.toml");
+        });
+        CHECK(e.line() == 4);
+        CHECK(e.key() == "macro.OSHOP.forms");
+    }
+    SUBCASE("a new macro needs forms, a new argument needs omitted and role") {
+        auto e = expect_config_error([&] { cat.merge(parse_config("[OSHOP]\ntitle = \"t\"\n"), "osplint.toml"); });
+        CHECK(e.key() == "macro.OSHOP.forms");
+        auto e2 = expect_config_error([&] {
+            cat.merge(parse_config("[OZAGR.arg.PQ]\nmeaning = \"m\"\n"), "osplint.toml");
+        });
+        CHECK(e2.key() == "macro.OZAGR.arg.PQ.omitted");
+        CHECK(e2.line() == 1);
+    }
+    SUBCASE("an action target must name arguments of the macro") {
+        auto e = expect_config_error([&] {
+            cat.merge(parse_config("[OZAGR]\naction = [ { step = \"1\", target = \"PZ-PW\" } ]\n"), "osplint.toml");
+        });
+        CHECK(e.key() == "macro.OZAGR.action[0].target");
+    }
+    SUBCASE("one merge cannot give a code to two macros") {
+        auto e = expect_config_error([&] {
+            cat.merge(parse_config("[OSHA]\nforms = [\"GCODE\"]\ncodes = [\"G117\"]\n\n[OSHB]\nforms = [\"GCODE\"]\ncodes = [\"G0117\"]\n"),
+                      "osplint.toml");
+        });
+        CHECK(e.line() == 5);
+        CHECK(e.key() == "macro.OSHB.codes");
+        CHECK(cat.find_by_code("G117") == nullptr);
+    }
+    SUBCASE("a failed merge leaves the catalog unchanged") {
+        CHECK_THROWS_AS(cat.merge(parse_config("[OFOO]\nforms = [\"CALL\"]\n[OZAGR]\nmm_only = 1\n"), "osplint.toml"),
+                        ConfigError);
+        CHECK(cat.find("OFOO") == nullptr);
+        CHECK(cat.find("OZAGR")->mm_only);
+    }
+    SUBCASE("syntax errors of a catalog file carry the line") {
+        auto e = expect_config_error([] { Catalog::from_toml_text("schema = 1\n[macro.OX\n", "cat.toml"); });
+        CHECK(e.file() == "cat.toml");
+        CHECK(e.line() == 2);
+    }
+}
+
+TEST_CASE("render_card: terminal text and Markdown") {
+    Catalog cat = shipped();
+    const MacroSpec& m = *cat.find("OZAGR");
+    std::string text = cat.render_card(m, false);
+    CHECK(text.rfind("OZAGR - Back counterboring with the BIG back-counterbore bar\n", 0) == 0);
+    CHECK(text.find("CALL OZAGR (PX=x PY=y) PR=r PZ=z PI=i") != std::string::npos);
+    CHECK(text.find("Arguments (machine axis in G17/G18/G19)") != std::string::npos);
+    CHECK(text.find("default 5") != std::string::npos);               // PL
+    CHECK(text.find("(undocumented)") != std::string::npos);          // PD
+    CHECK(text.find("M53 without PT raises an alarm") != std::string::npos);
+    CHECK(text.find("A-17 (open, configurable)") != std::string::npos);
+    CHECK(text.find("[macro.OZAGR.arg.PT]") != std::string::npos);
+    CHECK(text.find("000:L552-648") != std::string::npos);
+    CHECK(text.find("**") == std::string::npos);
+    std::istringstream lines(text);
+    for (std::string l; std::getline(lines, l);) {
+        CAPTURE(l);
+        CHECK((l.empty() || l.back() != ' '));
+    }
+
+    std::string md = cat.render_card(m, true);
+    CHECK(md.rfind("### OZAGR: Back counterboring with the BIG back-counterbore bar\n", 0) == 0);
+    CHECK(md.find("| Arg | If omitted | Values | G17 | G18 | G19 | Format | Meaning |") != std::string::npos);
+    CHECK(md.find("| `PR` | required |") != std::string::npos);
+    CHECK(md.find("PF\\*4") != std::string::npos);  // escaped in tables
+    CHECK(md.find("```text\nCALL OZAGR") != std::string::npos);
+
+    std::string g114 = cat.render_card(*cat.find("OG84L"), false);
+    CHECK(g114.find("Registered to:  G114") != std::string::npos);
+    CHECK(g114.find("Cancel:         OC84L (M204)") != std::string::npos);
+    std::string g78 = cat.render_card(*cat.find_cycle(78), false);
+    CHECK(g78.find("Q > K [004:L80]") != std::string::npos);
+    CHECK(g78.find("always incremental") != std::string::npos);
+}
+
+TEST_CASE("docs/catalog.md: the shop example loads and the error examples are real") {
+    std::string doc = read_file(std::string(OSPLINT_SOURCE_DIR) + "/docs/catalog.md");
+    std::size_t at = doc.find("# osplint.toml\n");
+    REQUIRE(at != std::string::npos);
+    std::size_t end = doc.find("```", at);
+    REQUIRE(end != std::string::npos);
+    toml::table root = parse_config(std::string_view(doc).substr(at, end - at));
+    Catalog cat = shipped();
+    REQUIRE(root["macro"].as_table() != nullptr);
+    cat.merge(*root["macro"].as_table(), "osplint.toml");
+    const MacroSpec* face = cat.find("OFACE");
+    REQUIRE(face != nullptr);
+    CHECK(face->args.size() == 6);
+    CHECK(face->arg("PX")->axis(18) == 'Z');
+    CHECK(face->action.size() == 2);
+
+    // The three error lines shown in the docs are what the loader prints.
+    auto e1 = expect_config_error([&] {
+        cat.merge(parse_config("[OZAGR]\ntitle = \"x\"\n\n[OZAGR.arg.PT]\nomited = \"required\"\n"), "osplint.toml");
+    });
+    CHECK(doc.find(e1.what()) != std::string::npos);
+    auto e2 = expect_config_error([&] { cat.merge(parse_config("[OZAGR]\n\nmm_only = \"yes\"\n"), "osplint.toml"); });
+    CHECK(doc.find(e2.what()) != std::string::npos);
+    auto e3 = expect_config_error([&] {
+        cat.merge(parse_config("[OSHOP]\nforms = [\"CALL\"]\n[OSHOP.arg.PZ]\nrole = \"cycle\"\nomitted = \"maybe\"\n"),
+                  "osplint.toml");
+    });
+    CHECK(doc.find(e3.what()) != std::string::npos);
+}
+
+TEST_CASE("every override hint of an open reading is a valid patch that changes the macro") {
+    Catalog cat = shipped();
+    int applied = 0;
+    for (const auto& m : cat.macros()) {
+        for (const auto& rd : m.readings) {
+            if (rd.override_hint.empty()) continue;
+            CAPTURE(m.name);
+            CAPTURE(rd.override_hint);
+            CHECK(rd.open);
+            // "[macro.NAME.arg.X] key = value, key = value (comment)"
+            std::string hint = rd.override_hint;
+            REQUIRE(hint.rfind("[macro." + m.name + ".", 0) == 0);
+            std::size_t close = hint.find("] ");
+            REQUIRE(close != std::string::npos);
+            std::string header = "[" + hint.substr(7, close - 7) + "]";
+            std::string body = hint.substr(close + 2);
+            if (auto paren = body.find(" ("); paren != std::string::npos) body.resize(paren);
+            for (std::size_t p; (p = body.find("\", ")) != std::string::npos;) body.replace(p, 3, "\"\n");
+            Catalog patched = cat;
+            patched.merge(parse_config(header + "\n" + body + "\n"), "osplint.toml");
+            std::string arg = hint.substr(hint.find(".arg.") + 5, close - hint.find(".arg.") - 5);
+            const ArgSpec* before = m.arg(arg);
+            const ArgSpec* after = patched.find(m.name)->arg(arg);
+            REQUIRE(after != nullptr);
+            CHECK((before == nullptr || before->omitted != after->omitted));
+            ++applied;
+        }
+    }
+    CHECK(applied >= 10);
+}
+
+TEST_CASE("every `when` condition uses the documented atoms") {
+    Catalog cat = shipped();
+    const std::set<std::string> atoms = {"M52", "M53", "M54", "G17", "G18", "G19", "G90", "G91"};
+    auto check = [&](const MacroSpec& m, const std::string& when) {
+        CAPTURE(m.name);
+        CAPTURE(when);
+        std::string spaced;
+        for (char c : when) spaced += (c == '(' || c == ')') ? std::string(" ") + c + " " : std::string(1, c);
+        std::istringstream words(spaced);
+        int depth = 0;
+        for (std::string w; words >> w;) {
+            if (w == "(") ++depth;
+            else if (w == ")") --depth;
+            else if (w == "and" || w == "or" || w == "not") continue;
+            else if (w.rfind("given:", 0) == 0) CHECK(m.arg(w.substr(6)) != nullptr);
+            else if (w.rfind("PM=", 0) == 0) CHECK(m.arg("PM") != nullptr);
+            else CHECK(atoms.count(w) == 1);
+            CHECK(depth >= 0);
+        }
+        CHECK(depth == 0);
+    };
+    int seen = 0;
+    for (const auto* list : {&cat.macros(), &cat.cycles()})
+        for (const auto& m : *list) {
+            for (const auto& st : m.action)
+                if (!st.when.empty()) check(m, st.when), ++seen;
+            for (const auto& r : m.relations)
+                if (!r.when.empty()) check(m, r.when), ++seen;
+        }
+    CHECK(seen > 20);
+}
