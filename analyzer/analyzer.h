@@ -35,6 +35,10 @@ struct BlockInfo {
 struct AnalysisResult {
     std::vector<Diagnostic> diagnostics;  // sorted
     std::vector<BlockInfo> blocks;        // per block, when keep_states
+    // Instrumentation: how many times the fixpoint applied a block to a state
+    // (over every program of the file). Stays within a small multiple of the
+    // number of blocks: each block's entry state can only lose information.
+    uint64_t transfer_count = 0;
 };
 
 // Runs every enabled rule over a parsed file.

@@ -1,0 +1,86 @@
+// OSP201 g60-with-ncyl: G60 modal and NCYL on one block where the back-counterbore
+// or long-slot keyway macros are in use (the manuals forbid the combination).
+#include <string>
+#include <vector>
+
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP201", "g60-with-ncyl", Severity::Error,
+                         "G60 and NCYL together in a program using the OG87*/OZAGR/OM100/OKYOX macros"};
+
+// Where the macro's manual forbids the combination.
+std::string forbidding_source(const MacroSpec& s) {
+    if (s.manual.rfind("seed 002", 0) == 0) return "seed 002 L227";
+    if (s.manual.rfind("seed 000", 0) == 0) return "seed 000 L54-56";
+    return macro::source_ref(s, "");
+}
+
+class G60WithNcyl final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+
+    void begin_program(RuleContext&, const ProgramView&) override {
+        pending_.clear();
+        user_ = nullptr;
+        user_range_ = {};
+    }
+
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        if (c && c->spec && c->spec->g60_ncyl_forbidden && !user_ &&
+            (macro::is_invocation(*c) || c->kind == CallKind::ModinPositioning)) {
+            user_ = c->spec;
+            user_range_ = macro::call_range(*c, v.block);
+        }
+        const Statement* ncyl = v.block.statement(StmtKind::Ncyl);
+        if (!ncyl || !v.after.motion.is(60)) return;
+        if (const ActiveModin* m = active_modin(v.before)) {
+            const MacroSpec* spec = ctx.catalog().find(m->macro);
+            if (spec && spec->g60_ncyl_forbidden) {
+                report(ctx, ncyl->keyword_range, *spec,
+                       "MODIN " + spec->name + " is active (line " + std::to_string(m->line) + ")", std::nullopt);
+                return;
+            }
+        }
+        // Elsewhere in a program that uses these macros. Under a fixed cycle
+        // (G114 above all, "NCYL/G60 are also OK", seed 003 L80) the combination
+        // is the control's own business: only blocks known to be outside any
+        // MODIN of such a macro and outside any cycle are kept.
+        if (!v.before.modin.known || !v.after.cycle.known || v.after.cycle.value) return;
+        pending_.push_back(ncyl->keyword_range);
+    }
+
+    void end_program(RuleContext& ctx, const ProgramView&) override {
+        if (!user_) return;
+        for (const ByteRange& r : pending_)
+            report(ctx, r, *user_, "this program uses " + user_->name, user_range_);
+    }
+
+private:
+    void report(RuleContext& ctx, ByteRange where, const MacroSpec& spec, const std::string& context,
+                std::optional<ByteRange> call) {
+        std::string src = forbidding_source(spec);
+        auto& d = ctx.report(kMeta, where,
+                             "G60 is modal and NCYL is on this block while " + context +
+                                 ": under G60 the control ignores NCYL, so the cycle runs here and the tool hits "
+                                 "the workpiece (" + src + "); end G60 with G0 or G1 before this block, or drop "
+                                 "NCYL and position without the macro");
+        d.notes.push_back({"\"While using these programs, never use G60 together with NCYL. During G60, NCYL is "
+                           "ignored and the tool collides with the workpiece.\" (" + src + ")",
+                           std::nullopt});
+        if (call) d.notes.push_back({spec.name + " is used here", ctx.resolve(*call)});
+    }
+
+    std::vector<ByteRange> pending_;
+    const MacroSpec* user_ = nullptr;
+    ByteRange user_range_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP201() { return std::make_unique<G60WithNcyl>(); }
+
+}  // namespace osplint

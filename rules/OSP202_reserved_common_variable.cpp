@@ -1,0 +1,100 @@
+// OSP202 reserved-common-variable: VC120-VC128 used by a program that calls the
+// macros which use them internally.
+#include <string>
+#include <vector>
+
+#include "analyzer/eval.h"
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP202", "reserved-common-variable", Severity::Warning,
+                         "VC120-VC128 used in a program that calls macros which overwrite them"};
+
+std::string clobber_source(const MacroSpec& s) {
+    if (s.manual.rfind("seed 000", 0) == 0) return "seed 000 L105-107";
+    if (s.manual.rfind("seed 001", 0) == 0) return "seed 001 L109-111";
+    if (s.manual.rfind("seed 002", 0) == 0) return "seed 002 L109-113";
+    return macro::source_ref(s, "");
+}
+
+struct Use {
+    ByteRange range;
+    int number = 0;
+    bool write = false;
+};
+
+struct Clobber {
+    const MacroSpec* spec = nullptr;
+    ByteRange range;
+    uint32_t line = 0;
+};
+
+class ReservedCommonVariable final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+
+    void begin_program(RuleContext&, const ProgramView&) override {
+        uses_.clear();
+        calls_.clear();
+    }
+
+    void check_block(RuleContext&, const BlockView& v) override {
+        const Block& b = v.block;
+        if (const MacroCall* c = v.call; c && c->spec && c->spec->vc120_128_clobbered &&
+                                         (c->kind == CallKind::Call || c->kind == CallKind::Modin ||
+                                          c->kind == CallKind::GCode || c->kind == CallKind::MCode))
+            calls_.push_back({c->spec, macro::call_range(*c, b), b.line});
+        std::vector<bool> is_target(b.exprs.size(), false);
+        for (const auto& a : b.assignments)
+            if (a.target >= 0 && static_cast<size_t>(a.target) < is_target.size()) is_target[a.target] = true;
+        for (size_t i = 0; i < b.exprs.size(); ++i) {
+            const ExprNode& n = b.exprs[i];
+            if (n.kind != ExprKind::Variable) continue;
+            auto key = variable_key(b, static_cast<ExprId>(i), v.before);
+            if (!key) continue;
+            auto num = common_variable_number(*key);
+            if (!num || *num < 120 || *num > 128) continue;
+            uses_.push_back({n.range, *num, is_target[i]});
+        }
+    }
+
+    void end_program(RuleContext& ctx, const ProgramView&) override {
+        if (calls_.empty()) return;
+        const Clobber& first = calls_.front();
+        std::string names;
+        int distinct = 0;
+        for (const auto& c : calls_)
+            if (names.find(c.spec->name) == std::string::npos) {
+                names += (names.empty() ? "" : ", ") + c.spec->name;
+                ++distinct;
+            }
+        for (const Use& u : uses_) {
+            std::string var = "VC" + std::to_string(u.number);
+            auto& d = ctx.report(
+                kMeta, u.range,
+                var + " is " + (u.write ? "written" : "read") + " here, but " + names +
+                    (distinct == 1 ? " uses VC120-VC128 internally and overwrites them when it runs ("
+                                   : " use VC120-VC128 internally and overwrite them when they run (") +
+                    clobber_source(*first.spec) +
+                    "): a value kept there across the call is lost; use a common variable outside VC120-VC128");
+            size_t shown = 0;
+            for (const auto& c : calls_) {
+                if (shown++ == 3) break;
+                d.notes.push_back({c.spec->name + " overwrites " + var + " when it runs",
+                                   ctx.resolve(c.range)});
+            }
+        }
+    }
+
+private:
+    std::vector<Use> uses_;
+    std::vector<Clobber> calls_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP202() { return std::make_unique<ReservedCommonVariable>(); }
+
+}  // namespace osplint

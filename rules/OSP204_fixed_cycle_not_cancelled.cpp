@@ -1,0 +1,74 @@
+// OSP204 fixed-cycle-not-cancelled: another fixed cycle commanded while one is
+// modal without G80 between, or a cycle still modal where the program ends.
+#include <fmt/format.h>
+
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP204", "fixed-cycle-not-cancelled", Severity::Warning,
+                         "A fixed cycle switched without G80, or still modal at the program end"};
+
+std::string cycle_name(const ActiveCycle& c) {
+    return c.macro.empty() ? fmt::format("G{}", c.code) : fmt::format("G{} ({})", c.code, c.macro);
+}
+
+// How the cycle is cancelled: G80, or the registered cancel code of a macro cycle.
+std::string cancel_hint(const RuleContext& ctx, const ActiveCycle& c) {
+    if (c.macro.empty()) return "G80";
+    const MacroSpec* spec = ctx.catalog().find(c.macro);
+    if (spec && !spec->cancel.empty())
+        for (const auto& [code, macro] : ctx.catalog().registrations())
+            if (macro == spec->cancel) return code + " (or G80)";
+    return "G80";
+}
+
+class FixedCycleNotCancelled final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+
+    void begin_program(RuleContext&, const ProgramView&) override { end_block_.reset(); }
+
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const Block& b = v.block;
+        if (b.statement(StmtKind::Rts) || b.has_code("M", 2) || b.has_code("M", 30)) end_block_ = b.range;
+        const ActiveCycle* now = active_cycle(v.after);
+        const ActiveCycle* old = active_cycle(v.before);
+        if (!now || !old || now->start_line != b.line || b.has_code("G", 80)) return;
+        if (now->code == old->code && now->macro == old->macro) return;
+        auto& d = ctx.report(kMeta, now->start_range.empty() ? b.range : now->start_range,
+                             cycle_name(*now) + " is commanded while " + cycle_name(*old) +
+                                 " is still modal: addresses mean different things in each cycle, and the control "
+                                 "may stop with an alarm or read the old values (seed 004 L18-20); command " +
+                                 cancel_hint(ctx, *old) + " on the block before");
+        if (!old->start_range.empty())
+            d.notes.push_back({cycle_name(*old) + " was started here", ctx.resolve(old->start_range)});
+    }
+
+    void end_program(RuleContext& ctx, const ProgramView& p) override {
+        if (!p.final_state) return;
+        const ActiveCycle* c = active_cycle(*p.final_state);
+        if (!c) return;
+        ByteRange where = c->start_range;
+        if (where.empty()) {
+            if (!end_block_) return;
+            where = *end_block_;
+        }
+        ctx.report(kMeta, where,
+                   cycle_name(*c) + " is still modal where the program " + (p.is_subprogram ? "returns" : "ends") +
+                       ": no cancel follows it" +
+                       (p.is_subprogram ? ", so the caller's next positioning block machines another hole" : "") +
+                       " (seed 004 L22: \"check that the G80 cancel code is commanded\"); command " +
+                       cancel_hint(ctx, *c) + " after the last hole");
+    }
+
+private:
+    std::optional<ByteRange> end_block_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP204() { return std::make_unique<FixedCycleNotCancelled>(); }
+
+}  // namespace osplint

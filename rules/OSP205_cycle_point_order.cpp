@@ -1,0 +1,131 @@
+// OSP205 cycle-point-order: a fixed cycle (or G114) whose initial point, R point
+// and Z point are not in the order I >= R > Z along the cycle axis.
+#include <optional>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP205", "cycle-point-order", Severity::Error,
+                         "Fixed-cycle initial point, R and Z not in the order I >= R > Z"};
+
+std::string num(double v) { return macro::format_number(v); }
+
+// Back boring goes from below the hole upwards: its order is the other way round.
+bool reversed_cycle(int code) { return code == 79 || code == 87; }
+
+class CyclePointOrder final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+
+    void begin_program(RuleContext&, const ProgramView&) override { last_.reset(); }
+
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const Block& b = v.block;
+        const ActiveCycle* c = active_cycle(v.after);
+        if (!c || b.has_code("G", 80) || reversed_cycle(c->code)) return;
+        const char axis = cycle_axis(v.after);
+        if (!axis || !v.after.distance.known) return;
+        const std::string axis_name(1, axis);
+        const Word* r_word = find_address(b, "R");
+        const Word* z_word = find_address(b, axis_name);
+        // Blocks that command the cycle, change R or Z, or machine a hole.
+        bool positions = r_word || z_word || c->start_line == b.line;
+        for (const auto& w : b.words)
+            if ((w.address == "G" && w.number && *w.number == c->code) ||
+                ((w.address == "X" || w.address == "Y" || w.address == "Z") && !is_coord_calc_operand(b, w)))
+                positions = true;
+        for (const auto& st : b.statements)
+            if (st.kind == StmtKind::CoordCalc) positions = true;
+        if (!positions) return;
+        const bool g17 = v.after.plane.is(Plane::G17);
+        const bool incremental = v.after.distance.value == Distance::Incremental;
+        const std::string name = fmt::format("G{}", c->code);
+
+        std::string problem;
+        Val<double> i_point = v.before.axis(axis);
+        if (incremental) {
+            if (!c->r.known || !c->z.known) return;
+            const double r = c->r.value, z = c->z.value;
+            const bool down = r <= 0 && z < 0, up = r >= 0 && z > 0;
+            if (down || (!g17 && up)) {
+                last_.reset();
+                return;
+            }
+            if (!dedupe(c, Val<double>{}, r, z, true)) return;
+            problem = fmt::format(
+                "under G91 R is measured from the initial point and Z from the R point (seed 004 L12-14), so R "
+                "must be 0 or negative and Z negative{}; here R{} and {}{}{}",
+                g17 ? "" : " (or both positive for a cycle axis pointing the other way)", num(r), axis_name,
+                num(z),
+                r > 0 && z < 0 ? ": R above the initial point raises an alarm (seed 004 L20-22)"
+                : z == 0       ? ": Z0 leaves no depth to machine"
+                               : ": the hole bottom is not below the R point");
+        } else {
+            if (!c->r.known) return;
+            const double r = c->r.value;
+            const bool have_z = c->z.known;
+            const double z = have_z ? c->z.value : 0;
+            auto ordered = [&](double hi, double lo, bool strict) { return strict ? hi > lo : hi >= lo; };
+            auto check = [&](bool downwards) {
+                // downwards: I >= R > Z; upwards (G18/G19 only): I <= R < Z
+                bool ok = true;
+                if (i_point.known)
+                    ok = ok && (downwards ? ordered(i_point.value, r, false) : ordered(r, i_point.value, false));
+                if (have_z) ok = ok && (downwards ? ordered(r, z, true) : ordered(z, r, true));
+                return ok;
+            };
+            if (check(true) || (!g17 && check(false))) {
+                last_.reset();
+                return;
+            }
+            if (!dedupe(c, i_point, r, z, have_z)) return;
+            const bool g99 = v.after.cycle_return.is(CycleReturn::R) && c->start_line != b.line;
+            std::string i_text = i_point.known
+                                     ? fmt::format("initial point {}{}", axis_name, num(i_point.value)) +
+                                           (g99 ? " (under G99 the previous block's " + axis_name + " is the initial point)"
+                                                : std::string())
+                                     : std::string("initial point unknown");
+            if (i_point.known && r > i_point.value && (!have_z || r > z))
+                problem = fmt::format("R{} is above the {}: the control stops with an alarm (seed 004 L20-22); "
+                                      "start the cycle from above R, or lower R",
+                                      num(r), i_text);
+            else
+                problem = fmt::format("the hole bottom {}{} is not below R{} ({}): the points must be in the "
+                                      "order I > R > Z (seed 004 L5-9, L22), otherwise the cycle machines nothing "
+                                      "or feeds the wrong way; Z is the final depth",
+                                      axis_name, num(z), num(r), i_text);
+        }
+        ByteRange where = r_word ? r_word->range : z_word ? z_word->range : !c->start_range.empty() &&
+                                                                                  c->start_line == b.line
+                                                                              ? c->start_range
+                                                                              : b.range;
+        auto& d = ctx.report(kMeta, where, name + ": " + problem);
+        if (c->start_line != b.line && !c->start_range.empty())
+            d.notes.push_back({name + " was commanded here", ctx.resolve(c->start_range)});
+        if (!c->macro.empty())
+            d.notes.push_back({c->macro + " follows the fixed-cycle rules for the cycle axis, also under G91 (seed "
+                               "003 L76-84)",
+                               std::nullopt});
+    }
+
+private:
+    // The same violation is reported once, not on every hole block that repeats it.
+    bool dedupe(const ActiveCycle* c, Val<double> i, double r, double z, bool have_z) {
+        auto key = std::make_tuple(c->start_line, i.known, i.known ? i.value : 0.0, r, have_z ? z : 0.0, have_z);
+        if (last_ && *last_ == key) return false;
+        last_ = key;
+        return true;
+    }
+    std::optional<std::tuple<uint32_t, bool, double, double, double, bool>> last_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP205() { return std::make_unique<CyclePointOrder>(); }
+
+}  // namespace osplint

@@ -1,0 +1,61 @@
+// OSP207 code-not-alone: M843 or M845 in a block together with another word.
+#include <string>
+
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP207", "code-not-alone", Severity::Error,
+                         "M843 or M845 in a block with any other word"};
+
+class CodeNotAlone final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const Block& b = v.block;
+        for (const auto& w : b.words) {
+            if (w.address != "M" || !w.number || (*w.number != 843 && *w.number != 845)) continue;
+            const bool others = b.words.size() > 1 || !b.assignments.empty() || !b.statements.empty();
+            if (!others) continue;
+            const bool start = *w.number == 843;
+            const std::string code = start ? "M843" : "M845";
+            auto& d = ctx.report(kMeta, w.range,
+                                 code + " shares this block with other words: M843 and M845 cannot be commanded "
+                                        "together with any other word (seed 004 L212), the control rejects the "
+                                        "block; write " + code + " alone on its own line " +
+                                        (start ? "before the tapping cycle" : "after G80"));
+            // Fix: move the code to a line of its own (before the block for M843,
+            // after it for M845). Not offered when moving it would change which
+            // blocks a jump or BLOCK SKIP reaches.
+            if (b.sequence || b.block_delete) continue;
+            const std::string& text = ctx.source().text();
+            std::string indent;
+            for (uint32_t i = b.range.begin; i < b.range.end && (text[i] == ' ' || text[i] == '\t'); ++i)
+                indent += text[i];
+            const uint32_t first = b.range.begin + static_cast<uint32_t>(indent.size());
+            ByteRange cut = w.range;
+            while (cut.begin > first && (text[cut.begin - 1] == ' ' || text[cut.begin - 1] == '\t')) --cut.begin;
+            if (cut.begin == first)  // the first word: take the blanks after it instead
+                while (cut.end < b.range.end && (text[cut.end] == ' ' || text[cut.end] == '\t')) ++cut.end;
+            std::string eol = "\n";
+            if (b.range.end < text.size() && text[b.range.end] == '\r') eol = "\r\n";
+            Fix fix;
+            fix.title = "Move " + code + " to a line of its own";
+            if (start) {
+                fix.edits.push_back({ctx.resolve(ByteRange{b.range.begin, b.range.begin}), indent + code + eol});
+                fix.edits.push_back({ctx.resolve(cut), ""});
+            } else {
+                fix.edits.push_back({ctx.resolve(cut), ""});
+                fix.edits.push_back({ctx.resolve(ByteRange{b.range.end, b.range.end}), eol + indent + code});
+            }
+            d.fixes.push_back(std::move(fix));
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP207() { return std::make_unique<CodeNotAlone>(); }
+
+}  // namespace osplint

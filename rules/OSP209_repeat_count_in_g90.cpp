@@ -1,0 +1,45 @@
+// OSP209 repeat-count-in-g90: L (repeat count) on a fixed cycle in G90 mode.
+#include <fmt/format.h>
+
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+// "004:L95" -> "seed 004 L95"
+std::string cite(const std::string& src) {
+    std::string out = "seed " + src;
+    for (auto& ch : out)
+        if (ch == ':') ch = ' ';
+    return out;
+}
+
+constexpr RuleMeta kMeta{"OSP209", "repeat-count-in-g90", Severity::Warning,
+                         "L (repeat count) on a fixed cycle in G90: valid only under G91"};
+
+class RepeatCountInG90 final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const ActiveCycle* c = active_cycle(v.after);
+        if (!c || !c->macro.empty() || v.block.has_code("G", 80)) return;
+        const Word* l = v.block.find("L");
+        if (!l || !v.after.distance.is(Distance::Absolute)) return;
+        const CycleSpec* spec = ctx.catalog().find_cycle(c->code);
+        if (!spec) return;
+        const ArgSpec* arg = spec->arg("L");
+        if (!arg || !arg->g91_only) return;
+        std::string src = arg->source.empty() ? std::string("seed 004") : cite(arg->source);
+        ctx.report(kMeta, l->range,
+                   fmt::format("L{} (repeat count) on G{} is valid only in G91 mode ({}): under G90 it does not "
+                               "give a row of holes, since every repetition names the same absolute position; use "
+                               "G91 with incremental X/Y steps for the row, or write one block per hole in G90",
+                               l->value_text, c->code, src));
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP209() { return std::make_unique<RepeatCountInG90>(); }
+
+}  // namespace osplint

@@ -1,0 +1,28 @@
+// OSP213 g82-without-dwell: G82 (counterboring) started without P.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP213", "g82-without-dwell", Severity::Warning,
+                         "G82 without P: no dwell at the hole bottom"};
+
+class G82WithoutDwell final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const ActiveCycle* c = active_cycle(v.after);
+        if (!c || c->code != 82 || !c->macro.empty() || c->start_line != v.block.line) return;
+        if (!c->known_absent("P")) return;
+        ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range,
+                   "G82 has no P: the tool does not dwell at the hole bottom, so the cycle works like G81 and "
+                   "loses the depth accuracy the dwell gives a blind hole or counterbore (seed 004 L101-111); add "
+                   "P, the dwell in seconds (revolutions x 60 / S, seed 004 L113-117), or use G81");
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP213() { return std::make_unique<G82WithoutDwell>(); }
+
+}  // namespace osplint

@@ -1,0 +1,29 @@
+// OSP214 g83-dwell-without-j: P on G83 has an effect only when J is commanded.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP214", "g83-dwell-without-j", Severity::Warning,
+                         "P (dwell) on G83 without J: the dwell is not performed"};
+
+class G83DwellWithoutJ final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const ActiveCycle* c = active_cycle(v.after);
+        if (!c || c->code != 83 || !c->macro.empty() || v.block.has_code("G", 80)) return;
+        const Word* p = v.block.find("P");
+        if (!p || !c->known_absent("J")) return;
+        ctx.report(kMeta, p->range,
+                   "P" + p->value_text + " on G83 has no effect: the dwell is valid only when J (the withdrawal "
+                   "amount) is commanded (seed 004 L131-132), and this pick cycle has no J, so it returns to R "
+                   "after every peck without dwelling; add J, or remove P");
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP214() { return std::make_unique<G83DwellWithoutJ>(); }
+
+}  // namespace osplint

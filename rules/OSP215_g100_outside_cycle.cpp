@@ -1,0 +1,29 @@
+// OSP215 g100-outside-cycle: G100 (drilling ignore) where no fixed cycle is modal.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP215", "g100-outside-cycle", Severity::Warning,
+                         "G100 outside a fixed cycle is ignored"};
+
+class G100OutsideCycle final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const Word* g100 = nullptr;
+        for (const auto& w : v.block.words)
+            if (w.address == "G" && w.number && *w.number == 100) g100 = &w;
+        if (!g100 || !no_cycle(v.before) || !no_cycle(v.after)) return;
+        ctx.report(kMeta, g100->range,
+                   "G100 is ignored here: it is valid only while a fixed cycle is modal (seed 004 L286), and no "
+                   "cycle is; the block runs as if G100 were not there. Command G100 on a hole block of the cycle "
+                   "whose hole is to be skipped, or remove it");
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP215() { return std::make_unique<G100OutsideCycle>(); }
+
+}  // namespace osplint

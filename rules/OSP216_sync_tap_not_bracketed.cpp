@@ -1,0 +1,54 @@
+// OSP216 sync-tap-not-bracketed: the synchronised-tapping mode M843 is not
+// closed by M845, or M3/M4/M5 are used while it is on.
+#include <optional>
+
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP216", "sync-tap-not-bracketed", Severity::Warning,
+                         "M843 not closed by M845 before the program ends, or M3/M4/M5 inside M843 ... M845"};
+
+class SyncTapNotBracketed final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+
+    void begin_program(RuleContext&, const ProgramView&) override { last_m843_.reset(); }
+
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        for (const auto& w : v.block.words) {
+            if (w.address != "M" || !w.number) continue;
+            const double code = *w.number;
+            if (code == 843) last_m843_ = w.range;
+            if ((code == 3 || code == 4 || code == 5) && v.before.sync_tap.is(true)) {
+                const bool stop = code == 5;
+                auto& d = ctx.report(kMeta, w.range,
+                                     "M" + std::to_string(static_cast<int>(code)) +
+                                         " inside synchronised tapping (after M843, before M845): for synchronised "
+                                         "tapping M03 becomes M843 and M05 becomes M845 (seed 004 L211-212); " +
+                                         (stop ? std::string("end the mode with M845, alone on its line, after G80")
+                                               : std::string("end the mode with M845 first, or use M843")));
+                if (last_m843_) d.notes.push_back({"synchronised tapping starts here", ctx.resolve(*last_m843_)});
+            }
+        }
+    }
+
+    void end_program(RuleContext& ctx, const ProgramView& p) override {
+        if (!p.final_state || !p.final_state->sync_tap.is(true) || !last_m843_) return;
+        ctx.report(kMeta, *last_m843_,
+                   "M843 starts synchronised tapping, but no M845 follows it before the program " +
+                       std::string(p.is_subprogram ? "returns" : "ends") +
+                       ": the spindle stays in the synchronised mode; after G80 write M845, alone on its line "
+                       "(seed 004 L211-221)");
+    }
+
+private:
+    std::optional<ByteRange> last_m843_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP216() { return std::make_unique<SyncTapNotBracketed>(); }
+
+}  // namespace osplint

@@ -1,0 +1,30 @@
+// OSP217 m843-before-speed: M843 commanded before any spindle speed S.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP217", "m843-before-speed", Severity::Warning,
+                         "M843 (synchronised tapping) before any S has been commanded"};
+
+class M843BeforeSpeed final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        if (!v.after.speed_commanded.is(false)) return;  // an S on the same block counts
+        for (const auto& w : v.block.words) {
+            if (w.address != "M" || !w.number || *w.number != 843) continue;
+            ctx.report(kMeta, w.range,
+                       "M843 starts the spindle for synchronised tapping, but no S has been commanded in this "
+                       "program yet, so the speed it runs at is whatever the control last had; command the spindle "
+                       "speed first (seed 004 L216: \"command the spindle speed first\"), e.g. on the positioning "
+                       "block before M843");
+        }
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP217() { return std::make_unique<M843BeforeSpeed>(); }
+
+}  // namespace osplint

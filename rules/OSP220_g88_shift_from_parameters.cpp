@@ -1,0 +1,30 @@
+// OSP220 g88-shift-from-parameters: G88 (fine boring) without I and J: the
+// shift direction and amount come from setting parameters.
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP220", "g88-shift-from-parameters", Severity::Warning,
+                         "G88 without I/J: the relief shift comes from the setting parameters"};
+
+class G88ShiftFromParameters final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const ActiveCycle* c = active_cycle(v.after);
+        if (!c || c->code != 88 || !c->macro.empty() || c->start_line != v.block.line) return;
+        if (!c->known_absent("I") || !c->known_absent("J")) return;
+        ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range,
+                   "G88 has neither I nor J: after the oriented stop the tool is relieved by the shift direction "
+                   "and amount stored in the setting parameters (seed 004 L279-281); if this tool's edge is "
+                   "oriented differently from what they assume, the relief goes the wrong way or by the wrong "
+                   "amount and the edge drags on the bore. Command I and J explicitly for this tool");
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP220() { return std::make_unique<G88ShiftFromParameters>(); }
+
+}  // namespace osplint

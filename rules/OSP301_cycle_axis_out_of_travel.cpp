@@ -1,0 +1,98 @@
+// OSP301 cycle-axis-out-of-travel: a macro call, a fixed-cycle hole or a
+// positioning move takes an axis outside `[machine.travel]`.
+#include <cmath>
+#include <set>
+
+#include "analyzer/config.h"
+#include "analyzer/motion.h"
+#include "macro_support.h"
+
+namespace osplint {
+
+namespace {
+
+constexpr RuleMeta kMeta{"OSP301", "cycle-axis-out-of-travel", Severity::Error,
+                         "A macro call, a fixed-cycle hole or a positioning move goes beyond [machine.travel]"};
+
+std::string travel_text(const Config& c, char axis) {
+    auto it = c.travel.find(axis);
+    if (it == c.travel.end()) return "";
+    return "[machine.travel] " + std::string(1, static_cast<char>(std::tolower(axis))) + " = [" +
+           motion_number(it->second.min) + ", " + motion_number(it->second.max) + "]";
+}
+
+// The word that sets the point: an argument of the expression written on the
+// call line, the cycle's R or depth word on the block.
+ByteRange where_for(const BlockView& v, const Envelope& env, const MotionPoint& p) {
+    if (auto terms = parse_catalog_expr(p.expr)) {
+        for (const auto& t : *terms) {
+            if (t.name.empty()) continue;
+            if (env.source == MotionSource::Macro && v.call) {
+                if (const MacroArg* a = v.call->arg(t.name); a && a->word) return a->word->range;
+            } else if (t.name != "I") {  // the I point is no word (I is a BHC/G88 address)
+                std::string addr = t.name == "Z" ? std::string(1, env.axis) : t.name;
+                if (const Word* w = v.block.find(addr)) return w->range;
+            }
+        }
+    }
+    if (v.call) return macro::call_range(*v.call, v.block);
+    return v.block.range;
+}
+
+class CycleAxisOutOfTravel final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const Config& config = ctx.config();
+        std::optional<Envelope> env = cycle_envelope(v, config);
+        if (config.travel.empty()) return;
+        if (!env) {
+            for (const auto& t : positioning_violations(v.block, v.before, v.after, v.call, config)) {
+                ByteRange where = v.block.range;
+                for (const auto& w : v.block.words)
+                    if (w.address.size() == 1 && w.address[0] == t.axis) where = w.range;
+                auto& d = ctx.report(kMeta, where,
+                                     fmt_move(t) + " the " + std::string(1, t.axis) + " travel " +
+                                         (t.below ? "minimum " : "maximum ") + motion_number(t.limit));
+                d.notes.push_back({travel_text(config, t.axis), std::nullopt});
+            }
+            return;
+        }
+        for (const auto& t : travel_violations(*env, config)) {
+            ByteRange where = v.call ? macro::call_range(*v.call, v.block) : v.block.range;
+            if (t.point >= 0) {
+                where = where_for(v, *env, env->points[static_cast<size_t>(t.point)]);
+            } else if (v.call && v.call->arg(t.name) && v.call->arg(t.name)->word) {
+                where = v.call->arg(t.name)->word->range;
+            } else if (const Word* w = v.block.find(t.name)) {
+                where = w->range;
+            }
+            double by = std::fabs(t.value - t.limit);
+            std::string msg = env->title() + " takes " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
+                              motion_number(by) + (t.below ? " below" : " above") + " the " + std::string(1, t.axis) +
+                              " travel " + (t.below ? "minimum " : "maximum ") + motion_number(t.limit) + ": " + t.what;
+            auto& d = ctx.report(kMeta, where, std::move(msg));
+            d.notes.push_back({travel_text(config, t.axis), std::nullopt});
+            if (t.inferred)
+                d.notes.push_back({"this step's target is inferred from the action sequence, not printed in the manual",
+                                   std::nullopt});
+            if (env->call_kind == CallKind::ModinPositioning)
+                d.notes.push_back({"the macro runs here because MODIN " + env->name + " (line " +
+                                       std::to_string(env->origin_line) + ") is open",
+                                   std::nullopt});
+            for (const auto& n : env->notes) d.notes.push_back({n, std::nullopt});
+        }
+    }
+
+private:
+    static std::string fmt_move(const TravelViolation& t) {
+        return "this block moves " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
+               motion_number(std::fabs(t.value - t.limit)) + (t.below ? " below" : " above");
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP301() { return std::make_unique<CycleAxisOutOfTravel>(); }
+
+}  // namespace osplint

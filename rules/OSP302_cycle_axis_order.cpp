@@ -1,0 +1,211 @@
+// OSP302 cycle-axis-order: a macro's cycle-axis points are in an order its
+// action sequence cannot run (R not above Z, A not above Z, no section left
+// for the end vector ...). The relations come from the catalog; OSP103 leaves
+// those between cycle-axis arguments to this rule.
+#include <cmath>
+#include <functional>
+#include <set>
+
+#include "analyzer/motion.h"
+#include "macro_support.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP302", "cycle-axis-order", Severity::Warning,
+                         "A macro's cycle-axis points are in an order its action sequence cannot run"};
+
+bool is_order_relation(const Relation& r, const MacroSpec& spec) {
+    for (const auto* side : {&r.left, &r.right}) {
+        auto terms = parse_catalog_expr(*side);
+        if (!terms) return false;
+        for (const auto& t : *terms)
+            if (!t.name.empty())
+                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
+    }
+    return false;
+}
+
+struct Value {
+    bool known = false;
+    double value = 0;
+    std::string how;        // "default 5", "current position 50"
+    bool current = false;   // taken from the current cycle-axis position
+    ByteRange range;        // the word on the line, when written there
+};
+
+struct Side {
+    bool known = false;
+    double value = 0;
+    std::string shown;  // "5-1.5 = 3.5"
+    std::string notes;
+    bool current = false;
+    ByteRange range;
+};
+
+Side evaluate_side(const std::string& text, const std::function<Value(const std::string&)>& lookup) {
+    Side s;
+    auto terms = parse_catalog_expr(text);
+    if (!terms) return s;
+    double sum = 0;
+    std::string shown;
+    for (size_t i = 0; i < terms->size(); ++i) {
+        const ExprTerm& t = (*terms)[i];
+        double v = t.number;
+        if (!t.name.empty()) {
+            Value x = lookup(t.name);
+            if (!x.known) return s;
+            v = x.value;
+            if (!x.how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + x.how;
+            s.current = s.current || x.current;
+            if (s.range.empty() && !x.range.empty()) s.range = x.range;
+        }
+        std::string num = v < 0 && (i > 0 || t.sign < 0) ? "(" + motion_number(v) + ")" : motion_number(v);
+        shown += (i == 0 ? (t.sign < 0 ? "-" : "") : (t.sign < 0 ? "-" : "+")) + num;
+        sum += t.sign * v;
+    }
+    s.known = true;
+    s.value = sum;
+    s.shown = terms->size() == 1 ? motion_number(sum) : shown + " = " + motion_number(sum);
+    return s;
+}
+
+bool holds(double l, const std::string& op, double r) {
+    if (op == ">") return l > r;
+    if (op == ">=") return l >= r;
+    if (op == "<") return l < r;
+    if (op == "<=") return l <= r;
+    if (op == "==") return l == r;
+    if (op == "!=") return l != r;
+    return true;
+}
+
+// A side made only of cycle-axis coordinates and numbers (PR, PZ+1): a point on the axis.
+bool is_point(const std::string& text, const MacroSpec& spec) {
+    auto terms = parse_catalog_expr(text);
+    if (!terms) return false;
+    int names = 0;
+    for (const auto& t : *terms) {
+        if (t.name.empty()) continue;
+        const ArgSpec* a = spec.arg(t.name);
+        if (!a || a->role != ArgRole::Cycle || t.sign < 0) return false;
+        ++names;
+    }
+    return names == 1;
+}
+
+class CycleAxisOrder final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void begin_program(RuleContext&, const ProgramView&) override { reported_.clear(); }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        const MacroCall* c = v.call;
+        const MacroSpec* spec = macro::shop_macro(c);
+        if (!spec || spec->relations.empty()) return;
+        // G-code macro cycles (OG84L/G114) follow the fixed-cycle order rules.
+        if (spec->has_form(MacroForm::GCode) && !spec->cancel.empty()) return;
+        if (c->kind != CallKind::Call && c->kind != CallKind::Modin && c->kind != CallKind::ModinPositioning &&
+            c->kind != CallKind::GCode)
+            return;
+        std::optional<Plane> plane;
+        if (v.before.plane.known) plane = v.before.plane.value;
+        const char axis = plane ? plane_axes(*plane).cycle : 0;
+
+        auto lookup = [&](const std::string& name) -> Value {
+            Value out;
+            const ArgSpec* a = spec->arg(name);
+            if (const MacroArg* m = a ? macro::given(*c, *a) : c->arg(name)) {
+                if (!m->value.known) return out;
+                out.known = true;
+                out.value = m->value.value;
+                if (m->word) out.range = m->word->range;
+                return out;
+            }
+            if (!a) return out;
+            if (a->default_value) {
+                out.known = true;
+                out.value = *a->default_value;
+                out.how = "not given: default " + motion_number(*a->default_value);
+            } else if (a->omitted == ArgOmitted::Current && a->role == ArgRole::Cycle && axis) {
+                // Only meaningful where the macro runs (a CALL line, a MODIN positioning block).
+                if (c->kind == CallKind::Modin) return out;
+                Val<double> cur = v.before.axis(axis);
+                if (!cur.known) return out;
+                out.known = true;
+                out.value = cur.value;
+                out.current = true;
+                out.how = "not given: the current " + std::string(1, axis) + " position " + motion_number(cur.value);
+            } else if (a->omitted == ArgOmitted::None &&
+                       (a->role == ArgRole::Length || a->role == ArgRole::Stroke || a->role == ArgRole::Shift)) {
+                out.known = true;
+                out.value = 0;
+                out.how = "not given: 0";
+            }
+            return out;
+        };
+
+        for (size_t i = 0; i < spec->relations.size(); ++i) {
+            const Relation& r = spec->relations[i];
+            if (!is_order_relation(r, *spec)) continue;
+            if (!r.when.empty()) {
+                if (r.when.rfind("given:", 0) != 0) continue;  // conditions this rule cannot decide
+                const ArgSpec* a = spec->arg(r.when.substr(6));
+                if (!a || !macro::given(*c, *a)) continue;
+            }
+            Side l = evaluate_side(r.left, lookup), rt = evaluate_side(r.right, lookup);
+            if (!l.known || !rt.known) continue;
+            const bool uses_current = l.current || rt.current;
+            // On positioning blocks of an open MODIN only the relations that
+            // depend on the current position are new; report those once per MODIN.
+            if (c->kind == CallKind::ModinPositioning) {
+                if (!uses_current) continue;
+                if (!reported_.insert({c->modin_line, i}).second) continue;
+            }
+            if (holds(l.value, r.op, rt.value)) continue;
+            report(ctx, v, *spec, r, l, rt, plane, axis);
+            if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
+        }
+    }
+
+private:
+    void report(RuleContext& ctx, const BlockView& v, const MacroSpec& spec, const Relation& r, const Side& l,
+                const Side& rt, std::optional<Plane> plane, char axis) {
+        std::string ax = axis ? std::string(1, axis) : std::string("the cycle axis");
+        std::string need;
+        const bool points = is_point(r.left, spec) && is_point(r.right, spec);
+        if (points && (r.op == ">" || r.op == "<"))
+            need = r.left + " must be " + (r.op == ">" ? "above " : "below ") + r.right + " on " + ax + " (" + r.left +
+                   " " + r.op + " " + r.right + ")";
+        else
+            need = "it needs " + r.left + " " + r.op + " " + r.right;
+        std::string msg = spec.name + " cannot run its action sequence in this order: " + need + ", but " + r.left +
+                          " = " + l.shown + " and " + r.right + " = " + rt.shown;
+        msg += " (" + (r.source.empty() ? spec.manual : "seed " + r.source) + ")";
+        if (r.inferred)
+            msg += std::string("; this ") + (points ? "order" : "constraint") +
+                   " is inferred from the action sequence, the manual does not state it";
+        ByteRange where = !l.range.empty() ? l.range : !rt.range.empty() ? rt.range : macro::call_range(*v.call, v.block);
+        auto& d = ctx.report(kMeta, where, std::move(msg));
+        if (!r.note.empty()) d.notes.push_back({r.note, std::nullopt});
+        std::string how = l.notes;
+        if (!rt.notes.empty()) how += (how.empty() ? "" : "; ") + rt.notes;
+        if (!how.empty()) d.notes.push_back({how, std::nullopt});
+        if (plane && r.plane && macro::plane_number(*plane) != r.plane)
+            d.notes.push_back({std::string("the manual describes G") + std::to_string(r.plane) + "; in " +
+                                   plane_name(*plane) + " the cycle axis is " + ax + " and \"above\" is read as +" +
+                                   ax + " (horizontal use: the macro itself does not check this order, seed 000 L46, "
+                                   "001 L43, 002 L52)",
+                               std::nullopt});
+        if (v.call->kind == CallKind::ModinPositioning)
+            d.notes.push_back({"the macro runs here because MODIN " + spec.name + " (line " +
+                                   std::to_string(v.call->modin_line) + ") is open",
+                               std::nullopt});
+    }
+    std::set<std::pair<uint32_t, size_t>> reported_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP302() { return std::make_unique<CycleAxisOrder>(); }
+
+}  // namespace osplint
