@@ -76,6 +76,8 @@ Flow build_flow(const std::vector<Block>& blocks, const Program& p,
                     f.has_jumps = true;
                     if (loop_end[i] >= 0 && static_cast<uint32_t>(loop_end[i]) + 1 < n)
                         out.push_back(static_cast<uint32_t>(loop_end[i]) + 1);
+                    else if (loop_end[i] >= 0)
+                        f.exits[i] = true;  // the loop is the last thing in the program
                     break;
                 case StmtKind::End:
                     if (loop_head[i] >= 0) {
@@ -151,13 +153,30 @@ public:
 
 private:
     std::string fingerprint_for(std::string_view rule, ByteRange range) {
-        // The block text (whitespace folded) identifies the finding independently of its line.
+        // The block text identifies the finding independently of its line: blanks
+        // are folded and comments left out, so that neither a shifted line nor a
+        // comment added to the block (a suppression directive for another rule,
+        // a note) changes it. A finding on a comment-only line keeps the comments.
         const std::string& text = file_.source.text();
         uint32_t line = file_.source.line_of(range.begin);
+        const uint32_t line_start = file_.source.line_start(line);
         std::string_view lt = file_.source.line_text(line);
+        const Block* block = nullptr;
+        auto it = std::lower_bound(file_.blocks.begin(), file_.blocks.end(), line,
+                                   [](const Block& b, uint32_t l) { return b.line < l; });
+        if (it != file_.blocks.end() && it->line == line) block = &*it;
+        auto in_comment = [&](uint32_t offset) {
+            if (!block) return false;
+            for (const auto& c : block->comments)
+                if (c.range.contains(offset)) return true;
+            return false;
+        };
         std::string norm;
-        for (char c : lt)
-            if (!std::isspace(static_cast<unsigned char>(c))) norm += c;
+        for (uint32_t i = 0; i < lt.size(); ++i)
+            if (!std::isspace(static_cast<unsigned char>(lt[i])) && !in_comment(line_start + i)) norm += lt[i];
+        if (norm.empty())
+            for (char c : lt)
+                if (!std::isspace(static_cast<unsigned char>(c))) norm += c;
         (void)text;
         std::string key = fmt::format("{}|{}|{}", rule, program_ ? program_->name : "", norm);
         int occurrence = ++occurrences_[key];
@@ -255,11 +274,13 @@ AnalysisResult analyze(const ProgramFile& file, const Config& config, const Anal
         std::vector<std::optional<MacroCall>> calls(n);
         std::optional<ModalState> final_state;
         auto transfer = [&](uint32_t i, const ModalState& before) {
+            ++result.transfer_count;
             const Block& b = file.blocks[p.first_block + i];
             calls[i] = resolve_call(b, before, catalog);
             ModalState after = before;
             apply_block(b, calls[i] ? &*calls[i] : nullptr, catalog, after);
             if (b.block_delete) after.merge(before);  // BLOCK SKIP may be on or off
+            after.clear_one_shots();  // NCYL, NOEX, G100 belong to their block only
             return after;
         };
         auto flow_into = [&](uint32_t t, const ModalState& st) -> bool {
