@@ -148,6 +148,8 @@ Config parse_config(std::string_view text, const std::string& origin) {
             c.explain_unknown = *e->value<bool>();
         }
     }
+    // explain-unknown turns on the "cannot tell" findings (OSP303) unless [rules] says otherwise.
+    if (c.explain_unknown && !c.rule_severity.count("OSP303")) c.rule_severity["OSP303"] = Severity::Info;
     return c;
 }
 

@@ -1,0 +1,742 @@
+// Cycle-axis envelopes (analyzer/motion.h), the travel rule OSP301, the order
+// rule OSP302, the unbounded notes OSP303 and the picture of `osplint trace --svg`.
+//
+// Every expected envelope below is worked out by hand from the action sequence
+// of the manual (MACROS.md §2, §3; seeds 000-004); the comments cite the step.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "analyzer/frontend.h"
+#include "analyzer/motion.h"
+#include "expectations.h"
+#include "osplint/osplint.h"
+
+namespace fs = std::filesystem;
+using namespace osplint;
+
+namespace {
+
+struct Traced {
+    ProgramFile file;
+    AnalysisResult result;
+    std::vector<Envelope> envelopes;
+};
+
+Traced trace_text(const std::string& text, const Config& config = Config{}, const std::string& path = "T.MIN") {
+    Traced t;
+    t.file = parse_program_file(path, text);
+    AnalysisOptions options;
+    options.keep_states = true;
+    options.only_rules = {"OSP001"};
+    t.result = analyze(t.file, config, options);
+    t.envelopes = file_envelopes(t.file, t.result, config);
+    return t;
+}
+
+// The envelope of the block on `line`; fails the test when there is none.
+const Envelope& at_line(const Traced& t, uint32_t line) {
+    for (const auto& e : t.envelopes)
+        if (e.line == line) return e;
+    FAIL("no envelope on line " << line);
+    static Envelope none;
+    return none;
+}
+
+bool has_envelope(const Traced& t, uint32_t line) {
+    for (const auto& e : t.envelopes)
+        if (e.line == line) return true;
+    return false;
+}
+
+const MotionPoint& low_point(const Envelope& e) {
+    REQUIRE(e.lowest.has_value());
+    return e.points[e.lowest->point];
+}
+const MotionPoint& high_point(const Envelope& e) {
+    REQUIRE(e.highest.has_value());
+    return e.points[e.highest->point];
+}
+
+const MotionPoint* point(const Envelope& e, const std::string& step) {
+    for (const auto& p : e.points)
+        if (p.step == step) return &p;
+    return nullptr;
+}
+
+std::vector<Diagnostic> run_rule(const std::string& rule, const std::string& text, const Config& config,
+                                 const std::string& path = "T.MIN") {
+    AnalysisOptions options;
+    options.only_rules = {rule};
+    return check_text(path, text, config, options).diagnostics;
+}
+
+Config travel_z(double lo, double hi) {
+    Config c;
+    c.travel['Z'] = {lo, hi};
+    return c;
+}
+
+const std::string kHead = "O1000\nG15 H1\nG0 G90 X0 Y0\nG56 Z50. H3\n";  // lines 1-4; Z at 50
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Macros (seed 000-002 action sequences through the catalog)
+
+TEST_CASE("OZAGR: down to PZ-PI-PL (step 3c), up to PR (step 2)") {
+    auto t = trace_text(kHead + "CALL OZAGR PX=10. PY=0 PR=5. PZ=-20. PI=12.\nM30\n");
+    const Envelope& e = at_line(t, 5);
+    CHECK(e.axis == 'Z');
+    // OZAGR step 3c: PZ-PI-PL = -20-12-5 = -37 (PL omitted: the table's default 5, 000:L582)
+    CHECK(e.lowest->value == doctest::Approx(-37));
+    CHECK(low_point(e).step == "3c");
+    CHECK(low_point(e).describe().find("step 3c: PZ-PI-PL = -20-12-5 = -37") == 0);
+    CHECK(low_point(e).describe().find("PL not given: default 5") != std::string::npos);
+    // OZAGR step 2: positioning to the R point, PR = 5
+    CHECK(e.highest->value == doctest::Approx(5));
+    CHECK(high_point(e).step == "2");
+    // step 3a: PR-PJ = 5-0 = 5 (PJ default 0); step 5: PZ = -20; step 10: PR
+    REQUIRE(point(e, "3a"));
+    CHECK(point(e, "3a")->value.value == doctest::Approx(5));
+    CHECK(point(e, "3a")->inferred);
+    CHECK(point(e, "5")->value.value == doctest::Approx(-20));
+    CHECK(point(e, "7")->value.value == doctest::Approx(-21));  // step 7: PZ-1 (1 mm escape, inferred)
+    CHECK(point(e, "9")->value.value == doctest::Approx(-18));  // step 9: PZ+2 (3 mm retreat, inferred)
+    // step 3b advances by PD, which the manual never defines (A-16): not given, not guessed
+    CHECK(point(e, "3b") == nullptr);
+    REQUIRE(!e.notes.empty());
+    CHECK(e.notes.front().find("step 3b") != std::string::npos);
+    CHECK(e.bounded());
+    CHECK(e.plane_points.size() == 2);
+}
+
+TEST_CASE("OZAGR: PL, PJ and PD given") {
+    auto t = trace_text(kHead +
+                        "CALL OZAGR PR=5. PZ=-20. PI=12. PL=8. PJ=2.\n"
+                        "CALL OZAGR PR=5. PZ=-20. PI=12. PJ=2. PD=50.\nM30\n");
+    // step 3c: PZ-PI-PL = -20-12-8 = -40
+    CHECK(at_line(t, 5).lowest->value == doctest::Approx(-40));
+    CHECK(point(at_line(t, 5), "3a")->value.value == doctest::Approx(3));  // step 3a: PR-PJ = 5-2
+    // step 3b: PR-PJ-PD = 5-2-50 = -47 lies below 3c (-20-12-5 = -37)
+    const Envelope& e = at_line(t, 6);
+    CHECK(e.lowest->value == doctest::Approx(-47));
+    CHECK(low_point(e).step == "3b");
+}
+
+TEST_CASE("OZAGR: M53 goes to PT (step 11), PM=52 to the Z+ limit (step 12, G17 only)") {
+    Config config = travel_z(-300, 150);
+    auto t = trace_text(kHead +
+                        "CALL OZAGR PR=5. PZ=-20. PI=12. PT=30. M53\n"
+                        "M54\n"
+                        "CALL OZAGR PR=5. PZ=-20. PI=12. PM=52\n"
+                        "G18\n"
+                        "CALL OZAGR PR=5. PZ=-20. PI=12. PM=52\n"
+                        "G17\nM30\n",
+                        config);
+    // step 11: M53 in effect, to the T point: PT = 30
+    CHECK(at_line(t, 5).highest->value == doctest::Approx(30));
+    CHECK(high_point(at_line(t, 5)).step == "11");
+    // step 12: G17 and PM=52: the Z+ limit = [machine.travel] z max 150
+    const Envelope& pm = at_line(t, 7);
+    CHECK(pm.highest->value == doctest::Approx(150));
+    CHECK(high_point(pm).limit);
+    CHECK(pm.limit_point.has_value());
+    // In G18 the step does not run: the top is PR = 5 (on Y, the G18 cycle axis)
+    const Envelope& g18 = at_line(t, 9);
+    CHECK(g18.axis == 'Y');
+    CHECK(g18.highest->value == doctest::Approx(5));
+    CHECK(!g18.limit_point.has_value());
+    // Without [machine.travel] the trip to the limit still bounds the top
+    auto u = trace_text(kHead + "CALL OZAGR PR=5. PZ=-20. PI=12. PM=52\nM30\n");
+    const Envelope& nolimit = at_line(u, 5);
+    CHECK(nolimit.bounded());
+    CHECK(nolimit.limit_point.has_value());
+    CHECK(!nolimit.points[*nolimit.limit_point].value.known);
+}
+
+TEST_CASE("OM100: PL below the Z point (step 4), PK adds steps 3a/3b") {
+    auto t = trace_text(kHead +
+                        "CALL OM100 PR=10. PZ=-32. PI=4. PK=32.\n"
+                        "CALL OM100 PR=10. PZ=-32. PI=4.\nM30\n");
+    const Envelope& e = at_line(t, 5);
+    // step 4: PZ-PL = -32-5 = -37 (PL default 5, 000:L688)
+    CHECK(e.lowest->value == doctest::Approx(-37));
+    CHECK(low_point(e).describe().find("step 4: PZ-PL = -32-5 = -37") == 0);
+    // step 2: PR = 10
+    CHECK(e.highest->value == doctest::Approx(10));
+    // step 3a: PZ+PK+PL = -32+32+5 = 5; step 3b: PZ+PK = 0
+    CHECK(point(e, "3a")->value.value == doctest::Approx(5));
+    CHECK(point(e, "3b")->value.value == doctest::Approx(0));
+    // without PK, step 3 goes straight to 4
+    const Envelope& n = at_line(t, 6);
+    CHECK(point(n, "3a") == nullptr);
+    CHECK(n.lowest->value == doctest::Approx(-37));
+}
+
+TEST_CASE("OG87C: spans PA, PR and PZ; the counterbore circle in the plane") {
+    auto t = trace_text(kHead +
+                        "MODIN OG87C PR=-45. PZ=-36. PA=5. PC=22. PI=2.5 PD=21\n"
+                        "X-60. Y-40.\n"
+                        "MODOUT\nM30\n");
+    CHECK(!has_envelope(t, 5));  // the MODIN line itself runs nothing
+    const Envelope& e = at_line(t, 6);
+    CHECK(e.call_kind == CallKind::ModinPositioning);
+    CHECK(e.origin_line == 5);
+    // step 4 (and 11): R point, PR = -45
+    CHECK(e.lowest->value == doctest::Approx(-45));
+    CHECK(low_point(e).step == "4");
+    // step 2 (and 14): point A, PA = 5
+    CHECK(e.highest->value == doctest::Approx(5));
+    CHECK(high_point(e).step == "2");
+    CHECK(point(e, "8")->value.value == doctest::Approx(-36));  // step 8: infeed to PZ
+    // the circle PC=22 about (-60, -40): X -71..-49, Y -51..-29 (the PI shift 2.5 stays inside)
+    bool x = false, y = false;
+    for (const auto& s : e.plane_spans) {
+        if (s.axis == 'X') {
+            x = true;
+            CHECK(s.range.lo == doctest::Approx(-71));
+            CHECK(s.range.hi == doctest::Approx(-49));
+        }
+        if (s.axis == 'Y') {
+            y = true;
+            CHECK(s.range.lo == doctest::Approx(-51));
+            CHECK(s.range.hi == doctest::Approx(-29));
+        }
+    }
+    CHECK(x);
+    CHECK(y);
+}
+
+TEST_CASE("OG87C without PA: point A is the current position, or unknown") {
+    Config config;
+    ProgramFile f = parse_program_file("T.MIN", "X-60. Y-40.\n");
+    REQUIRE(!f.blocks.empty());
+    const Block& b = f.blocks.front();
+    MacroCall call;
+    call.kind = CallKind::ModinPositioning;
+    call.name = "OG87C";
+    call.spec = config.catalog.find("OG87C");
+    REQUIRE(call.spec);
+    call.modin_line = 1;
+    for (auto [n, v] : std::vector<std::pair<std::string, double>>{{"PR", -45}, {"PZ", -36}, {"PC", 22}, {"PI", 2.5}, {"PD", 21}})
+        call.args.push_back(MacroArg{n, nullptr, Val<double>::of(v)});
+    ModalState before;
+    before.plane = Val<Plane>::of(Plane::G17);
+    before.distance = Val<Distance>::of(Distance::Absolute);
+    before.return_level = Val<int>::of(0);
+    before.z = Val<double>::of(50);
+    ModalState after = before;
+    auto e = cycle_envelope(b, before, after, &call, config);
+    REQUIRE(e);
+    // step 2: PA omitted = current value (000:L157): Z 50
+    CHECK(e->highest->value == doctest::Approx(50));
+    CHECK(high_point(*e).describe().find("current position 50") != std::string::npos);
+    before.z = Val<double>{};
+    auto u = cycle_envelope(b, before, after, &call, config);
+    REQUIRE(u);
+    CHECK(!u->bounded());  // never guessed
+    CHECK(!u->unknown_points().empty());
+    CHECK(u->unknown_points().front()->step == "2");
+}
+
+TEST_CASE("OG87N: printed targets bound the envelope, strokes of unprinted direction only may reach") {
+    auto t = trace_text(kHead +
+                        "MODIN OG87N PR=5. PZ=0 PL=3. PI=2. PJ=6.5\n"
+                        "X0 Y-55.\n"
+                        "MODOUT\nM30\n");
+    const Envelope& e = at_line(t, 6);
+    // step 4: PZ = 0 is the lowest printed target; step 7: PZ+PJ = 0+6.5 = 6.5 the highest
+    CHECK(e.lowest->value == doctest::Approx(0));
+    CHECK(low_point(e).step == "4");
+    CHECK(e.highest->value == doctest::Approx(6.5));
+    CHECK(high_point(e).step == "7");
+    CHECK(point(e, "3")->value.value == doctest::Approx(1));    // step 3: PZ+1
+    CHECK(point(e, "10")->value.value == doctest::Approx(4));   // step 10: PZ+PL+1 = 0+3+1
+    // steps 5/6 from PZ: by PL (3) then by PI (2), either way: -5 .. 5
+    REQUIRE(e.may_low.has_value());
+    CHECK(e.may_low->value == doctest::Approx(-5));
+    CHECK(e.points[e.may_low->point].step == "6");
+    // steps 11/12 from PZ+PL+1 = 4: by PI+1 (3) then by PL (3): -2 .. 10
+    REQUIRE(e.may_high.has_value());
+    CHECK(e.may_high->value == doctest::Approx(10));
+    CHECK(e.points[e.may_high->point].step == "12");
+    CHECK(e.bounded());
+}
+
+TEST_CASE("OG87K and OG87M: the PL stroke below PZ, M53 to PT") {
+    auto t = trace_text(kHead +
+                        "MODIN OG87K PR=5. PZ=0 PL=4.5\nX0 Y0\nMODOUT\n"
+                        "MODIN OG87M PR=5. PZ=0 PL=3. PT=30. M53\nX0 Y0\nMODOUT\nM30\n");
+    // OG87K step 5: PZ-PL = 0-4.5 = -4.5 (inferred); step 2: PR = 5
+    const Envelope& k = at_line(t, 6);
+    CHECK(k.lowest->value == doctest::Approx(-4.5));
+    CHECK(low_point(k).step == "5");
+    CHECK(low_point(k).inferred);
+    CHECK(k.highest->value == doctest::Approx(5));
+    // OG87M step 6: PZ-PL = 0-3 = -3; step 11: M53 mode, to PT = 30
+    const Envelope& m = at_line(t, 9);
+    CHECK(m.lowest->value == doctest::Approx(-3));
+    CHECK(low_point(m).step == "6");
+    CHECK(m.highest->value == doctest::Approx(30));
+    CHECK(high_point(m).step == "11");
+}
+
+TEST_CASE("OLPEX / OLPEY: PR -> PZ, the travel PI in the plane") {
+    auto t = trace_text(kHead +
+                        "CALL OLPEX PX=20. PY=0 PR=2. PZ=-100. PI=60. PQ=3. PK=.5\n"
+                        "CALL OLPEY PX=100. PY=20. PR=2. PZ=-100. PI=-60. PQ=3. PK=.5\nM30\n");
+    const Envelope& e = at_line(t, 5);
+    // step 1: PR = 2 (start of the cycle-axis motion); step 2: PZ = -100 (end), both inferred (A-29)
+    CHECK(e.highest->value == doctest::Approx(2));
+    CHECK(high_point(e).step == "1");
+    CHECK(e.lowest->value == doctest::Approx(-100));
+    CHECK(low_point(e).step == "2");
+    REQUIRE(e.plane_spans.size() == 1);
+    CHECK(e.plane_spans[0].axis == 'X');  // OLPEX travels along X in G17
+    CHECK(e.plane_spans[0].range.lo == doctest::Approx(20));
+    CHECK(e.plane_spans[0].range.hi == doctest::Approx(80));
+    const Envelope& y = at_line(t, 6);
+    REQUIRE(y.plane_spans.size() == 1);
+    CHECK(y.plane_spans[0].axis == 'Y');  // OLPEY along Y: 20 + (-60) = -40 .. 20
+    CHECK(y.plane_spans[0].range.lo == doctest::Approx(-40));
+    CHECK(y.plane_spans[0].range.hi == doctest::Approx(20));
+}
+
+TEST_CASE("OKYOX and OKYLX: PR -> PZ -> PR; the slot in the plane") {
+    auto t = trace_text(kHead +
+                        "CALL OKYOX PX=-60. PY=40. PR=2. PZ=-5. PI=40. PJ=10. PD=15\n"
+                        "CALL OKYLX PX=-135. PY=0 PR=2. PZ=-6. PI=40. PJ=14. PD=16\nM30\n");
+    const Envelope& o = at_line(t, 5);
+    // OKYOX step 3: cutting feed to PZ = -5; step 2 (and 9): PR = 2
+    CHECK(o.lowest->value == doctest::Approx(-5));
+    CHECK(low_point(o).step == "3");
+    CHECK(o.highest->value == doctest::Approx(2));
+    CHECK(high_point(o).step == "2");
+    std::map<char, Interval> spans;
+    for (const auto& s : o.plane_spans) spans[s.axis] = s.range;
+    REQUIRE(spans.count('X'));
+    REQUIRE(spans.count('Y'));
+    CHECK(spans['X'].lo == doctest::Approx(-60));  // PX .. PX+PI
+    CHECK(spans['X'].hi == doctest::Approx(-20));
+    CHECK(spans['Y'].lo == doctest::Approx(35));   // PY -+ PJ/2
+    CHECK(spans['Y'].hi == doctest::Approx(45));
+    const Envelope& l = at_line(t, 6);
+    // OKYLX step 4: to the Z point, PZ = -6; step 3: PR = 2
+    CHECK(l.lowest->value == doctest::Approx(-6));
+    CHECK(low_point(l).step == "4");
+    CHECK(high_point(l).step == "3");
+}
+
+TEST_CASE("G114 (OG84L): I -> R -> Z+L, G91 from I and R") {
+    auto t = trace_text(kHead +
+                        "G98\n"
+                        "G114 R10. Z-21.5 P.7 F1200 FA=1320\n"  // 6: declaration, positions only
+                        "X-45. Y-45.\n"                          // 7: a hole
+                        "M204\n"
+                        "G114 R10. Z-21.5 L4. F1200 FA=1320\n"   // 9
+                        "X45. Y-45.\n"                           // 10
+                        "M204\n"
+                        "G91\n"
+                        "G114 R-40. Z-31.5 F1200 FA=1320\n"      // 13
+                        "X0 Y0\n"                                // 14
+                        "M204\nG90\nM30\n");
+    CHECK(!has_envelope(t, 6));  // 003:L86-88: the declaration block does not tap
+    const Envelope& e = at_line(t, 7);
+    CHECK(e.source == MotionSource::CycleMacro);
+    // I point: Z 50 where the hole starts; step 2: R = 10; step 3: Z+L = -21.5+0 (L not given)
+    CHECK(e.highest->value == doctest::Approx(50));
+    CHECK(high_point(e).step == "I");
+    CHECK(point(e, "2")->value.value == doctest::Approx(10));
+    CHECK(e.lowest->value == doctest::Approx(-21.5));
+    CHECK(low_point(e).step == "3");
+    // with L4 the spindle stops at Z+L = -21.5+4 = -17.5 (003 note 5)
+    const Envelope& l = at_line(t, 10);
+    CHECK(l.lowest->value == doctest::Approx(-17.5));
+    CHECK(low_point(l).describe().find("-21.5+4 = -17.5") != std::string::npos);
+    // G91: R from the I point 50-40 = 10, Z from R 10-31.5 = -21.5 (004:L12-13, A-55)
+    const Envelope& g = at_line(t, 14);
+    CHECK(g.incremental);
+    CHECK(point(g, "2")->value.value == doctest::Approx(10));
+    CHECK(g.lowest->value == doctest::Approx(-21.5));
+}
+
+TEST_CASE("every fixed cycle of the catalog runs I -> R -> Z") {
+    Config config;
+    for (const auto& cycle : config.catalog.cycles()) {
+        CAPTURE(cycle.name);
+        std::string g = "G" + std::to_string(cycle.gcode);
+        // G98: every hole starts and ends at the I point, Z 50 (004:L6)
+        auto t = trace_text(kHead + "G98\n" + g + " X10. Y10. Z-20. R3. Q5. K2. F100\nX20. Y10.\nG80\nM30\n");
+        for (uint32_t line : {6u, 7u}) {
+            const Envelope& e = at_line(t, line);
+            CHECK(e.source == MotionSource::FixedCycle);
+            CHECK(e.name == g);
+            CHECK(e.highest->value == doctest::Approx(50));  // I point (004:L6)
+            CHECK(high_point(e).step == "I");
+            CHECK(point(e, "R")->value.value == doctest::Approx(3));  // R point (004:L7)
+            CHECK(e.lowest->value == doctest::Approx(-20));           // Z point (004:L9)
+            CHECK(low_point(e).step == "Z");
+        }
+        // G99: the second hole starts at R (the previous block's Z is the I point, A-53)
+        auto r = trace_text(kHead + "G99\n" + g + " X10. Y10. Z-20. R3. Q5. K2. F100\nX20. Y10.\nG80\nM30\n");
+        CHECK(at_line(r, 6).highest->value == doctest::Approx(50));
+        CHECK(at_line(r, 7).highest->value == doctest::Approx(3));
+    }
+}
+
+TEST_CASE("fixed cycles: G91, NCYL, BHC, M53 to the G71 level, G18") {
+    auto t = trace_text(kHead +
+                        "G98\n"
+                        "NCYL G81 Z-3.5 R3. F150\n"          // 6: positions only
+                        "BHC X0 Y0 I50. J0 K6\n"             // 7: six holes, one motion
+                        "G80\n"
+                        "G91\n"
+                        "G81 X10. Y0 Z-23. R-47. F100\n"     // 10: R = 50-47 = 3, Z = 3-23 = -20
+                        "G80\n"
+                        "G90\n"
+                        "G71 Z80.\n"
+                        "G81 X10. Y10. Z-20. R3. F100 M53\n" // 14: returns to the G71 level 80
+                        "G80\nM54\nM30\n");
+    CHECK(!has_envelope(t, 6));
+    const Envelope& bhc = at_line(t, 7);
+    CHECK(bhc.lowest->value == doctest::Approx(-3.5));
+    CHECK(bhc.plane_points.empty());
+    const Envelope& inc = at_line(t, 10);
+    CHECK(point(inc, "R")->value.value == doctest::Approx(3));
+    CHECK(inc.lowest->value == doctest::Approx(-20));
+    CHECK(low_point(inc).describe().find("3-23 = -20") != std::string::npos);
+    const Envelope& m53 = at_line(t, 14);
+    CHECK(m53.highest->value == doctest::Approx(80));
+    CHECK(high_point(m53).mark == "G71");
+    CHECK(m53.end.is(80));
+
+    auto h = trace_text("O1000\nG18\nG0 G90 X0 Z0\nG0 Y50.\nG98\nG81 X10. Z10. Y-20. R3. F100\nG80\nM30\n");
+    const Envelope& y = at_line(h, 6);
+    CHECK(y.axis == 'Y');  // G18: the cycle axis is Y
+    CHECK(y.highest->value == doctest::Approx(50));
+    CHECK(y.lowest->value == doctest::Approx(-20));
+}
+
+TEST_CASE("unknown values stay unknown") {
+    auto t = trace_text(kHead +
+                        "CALL OZAGR PR=5. PZ=VC1 PI=6.\n"
+                        "CALL OTHER\n"
+                        "G81 X10. Y10. Z-20. R3. F100\n"
+                        "G80\nM30\n");
+    const Envelope& z = at_line(t, 5);
+    CHECK(!z.bounded());
+    CHECK(z.lowest->value == doctest::Approx(5));  // only PR is known
+    REQUIRE(!z.unknown_points().empty());
+    CHECK(z.unknown_points().front()->describe().find("VC1") != std::string::npos);
+    const Envelope& g = at_line(t, 7);
+    CHECK(!g.bounded());
+    CHECK(g.unknown_points().front()->step == "I");
+    // a subprogram library: the plane is not known, so neither is the axis
+    auto s = trace_text("OSUB\nCALL OZAGR PR=5. PZ=-20. PI=6.\nRTS\n", Config{}, "S.SSB");
+    const Envelope& sub = at_line(s, 2);
+    CHECK(!sub.plane.has_value());
+    CHECK(!sub.bounded());
+}
+
+// ---------------------------------------------------------------------------
+// Rules
+
+TEST_CASE("OSP301 fires when OZAGR goes below the Z travel and not when it stays inside") {
+    Config config = travel_z(-300, 150);
+    auto bad = run_rule("OSP301", kHead + "CALL OZAGR PX=0 PY=120. PR=5. PZ=-298. PI=5.\nM30\n", config);
+    REQUIRE(bad.size() == 1);
+    CHECK(bad[0].rule == "OSP301");
+    CHECK(bad[0].severity == Severity::Error);
+    CHECK(bad[0].range.start.line == 5);
+    CHECK(bad[0].message.find("-308") != std::string::npos);   // the value reached
+    CHECK(bad[0].message.find("-300") != std::string::npos);   // the limit
+    CHECK(bad[0].message.find("step 3c") != std::string::npos);  // the step
+    auto good = run_rule("OSP301", kHead + "CALL OZAGR PX=0 PY=120. PR=5. PZ=-288. PI=5.\nM30\n", config);
+    CHECK(good.empty());
+    // without [machine.travel] nothing is checked
+    CHECK(run_rule("OSP301", kHead + "CALL OZAGR PR=5. PZ=-298. PI=5.\nM30\n", Config{}).empty());
+    // the bundled mistake
+    fs::path mistake = fs::path(OSPLINT_SOURCE_DIR) / "examples" / "mistakes" / "ZTRAVEL.MIN";
+    auto r = run_rule("OSP301", testing::read_file(mistake), load_config(fs::path(OSPLINT_SOURCE_DIR) / "examples" / "osplint.toml"));
+    REQUIRE(r.size() == 1);
+    CHECK(r[0].message.find("PZ-PI-PL = -298-5-5 = -308") != std::string::npos);
+}
+
+TEST_CASE("OSP302 fires on an OLPEX whose PA+PK exceeds its stroke") {
+    auto bad = run_rule("OSP302",
+                        kHead + "CALL OLPEX PX=20. PY=0 PR=2. PZ=-30. PI=60. PQ=3. PA=22. PK=12. PJ=1.5\nM30\n", Config{});
+    REQUIRE(bad.size() == 1);
+    CHECK(bad[0].severity == Severity::Warning);
+    CHECK(bad[0].message.find("PA+PK = 22+12 = 34") != std::string::npos);
+    CHECK(bad[0].message.find("PR-PZ = 2-(-30) = 32") != std::string::npos);
+    CHECK(bad[0].message.find("inferred") != std::string::npos);
+    auto good = run_rule("OSP302",
+                         kHead + "CALL OLPEX PX=20. PY=0 PR=2. PZ=-30. PI=60. PQ=3. PA=3. PK=.5 PJ=1.5\nM30\n", Config{});
+    CHECK(good.empty());
+    // PR not above PZ, read along +Y in G18
+    auto g18 = run_rule("OSP302", "O1000\nG18\nCALL OZAGR PR=-30. PZ=-20. PI=6.\nG17\nM30\n", Config{});
+    REQUIRE(g18.size() == 1);
+    CHECK(g18[0].message.find("above PZ on Y") != std::string::npos);
+}
+
+TEST_CASE("OSP303 is off by default and honours [analysis] explain-unknown") {
+    const std::string text = kHead + "CALL OZAGR PR=5. PZ=VC1 PI=6.\nM30\n";
+    auto count = [](const std::vector<Diagnostic>& ds) {
+        size_t n = 0;
+        for (const auto& d : ds)
+            if (d.rule == "OSP303") ++n;
+        return n;
+    };
+    Config off;
+    CHECK(count(check_text("T.MIN", text, off).diagnostics) == 0);
+    Config on = parse_config("[analysis]\nexplain-unknown = true\n", "on.toml");
+    auto ds = check_text("T.MIN", text, on).diagnostics;
+    REQUIRE(count(ds) == 1);
+    for (const auto& d : ds)
+        if (d.rule == "OSP303") {
+            CHECK(d.severity == Severity::Info);
+            CHECK(d.message.find("VC1") != std::string::npos);
+        }
+    // selected explicitly: it runs itself, once
+    Config selected;
+    selected.explain_unknown = true;
+    selected.rule_severity["OSP303"] = Severity::Info;
+    CHECK(count(check_text("T.MIN", text, selected).diagnostics) == 1);
+    // switched off explicitly
+    Config ignored = parse_config("[analysis]\nexplain-unknown = true\n[rules]\nOSP303 = \"off\"\n", "off.toml");
+    CHECK(count(check_text("T.MIN", text, ignored).diagnostics) == 0);
+}
+
+// ---------------------------------------------------------------------------
+// The picture
+
+namespace {
+
+// A small XML well-formedness check: one root element, tags nest and match,
+// attributes are quoted and unique, entities are known, nothing after the root.
+std::string xml_problem(const std::string& s) {
+    size_t i = 0;
+    std::vector<std::string> stack;
+    bool root_seen = false, root_closed = false;
+    auto name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == ':' || c == '.'; };
+    auto check_text = [&](size_t from, size_t to) -> std::string {
+        for (size_t k = from; k < to; ++k) {
+            if (s[k] == '<') return "stray <";
+            if (s[k] == '&') {
+                size_t semi = s.find(';', k);
+                if (semi == std::string::npos || semi > to) return "unterminated entity";
+                std::string ent = s.substr(k + 1, semi - k - 1);
+                if (ent != "amp" && ent != "lt" && ent != "gt" && ent != "quot" && ent != "apos" && ent.rfind('#', 0) != 0)
+                    return "unknown entity &" + ent + ";";
+            }
+            if (root_closed && !std::isspace(static_cast<unsigned char>(s[k]))) return "text after the root element";
+        }
+        return "";
+    };
+    while (i < s.size()) {
+        size_t lt = s.find('<', i);
+        if (lt == std::string::npos) {
+            if (auto p = check_text(i, s.size()); !p.empty()) return p;
+            break;
+        }
+        if (auto p = check_text(i, lt); !p.empty()) return p;
+        if (s.compare(lt, 5, "<?xml") == 0) {
+            if (lt != 0) return "XML declaration not at the start";
+            size_t e = s.find("?>", lt);
+            if (e == std::string::npos) return "unterminated declaration";
+            i = e + 2;
+            continue;
+        }
+        if (s.compare(lt, 4, "<!--") == 0) {
+            size_t e = s.find("-->", lt);
+            if (e == std::string::npos) return "unterminated comment";
+            i = e + 3;
+            continue;
+        }
+        size_t gt = s.find('>', lt);
+        if (gt == std::string::npos) return "unterminated tag";
+        std::string tag = s.substr(lt + 1, gt - lt - 1);
+        if (!tag.empty() && tag[0] == '/') {
+            std::string n = tag.substr(1);
+            while (!n.empty() && std::isspace(static_cast<unsigned char>(n.back()))) n.pop_back();
+            if (stack.empty() || stack.back() != n) return "mismatched </" + n + ">";
+            stack.pop_back();
+            if (stack.empty()) root_closed = true;
+            i = gt + 1;
+            continue;
+        }
+        bool self = !tag.empty() && tag.back() == '/';
+        if (self) tag.pop_back();
+        size_t k = 0;
+        while (k < tag.size() && name_char(tag[k])) ++k;
+        std::string name = tag.substr(0, k);
+        if (name.empty()) return "element without a name";
+        if (root_closed) return "second root element <" + name + ">";
+        std::set<std::string> attrs;
+        while (k < tag.size()) {
+            while (k < tag.size() && std::isspace(static_cast<unsigned char>(tag[k]))) ++k;
+            if (k >= tag.size()) break;
+            size_t a = k;
+            while (k < tag.size() && name_char(tag[k])) ++k;
+            std::string an = tag.substr(a, k - a);
+            if (an.empty() || k >= tag.size() || tag[k] != '=') return "bad attribute in <" + name + ">";
+            if (!attrs.insert(an).second) return "duplicate attribute " + an + " in <" + name + ">";
+            ++k;
+            if (k >= tag.size() || (tag[k] != '"' && tag[k] != '\'')) return "unquoted attribute " + an;
+            char q = tag[k];
+            size_t e = tag.find(q, k + 1);
+            if (e == std::string::npos) return "unterminated attribute " + an;
+            std::string v = tag.substr(k + 1, e - k - 1);
+            if (v.find('<') != std::string::npos) return "< in attribute " + an;
+            k = e + 1;
+        }
+        if (!root_seen) root_seen = true;
+        if (!self) stack.push_back(name);
+        else if (stack.empty()) root_closed = true;
+        i = gt + 1;
+    }
+    if (!root_seen) return "no root element";
+    if (!stack.empty()) return "unclosed <" + stack.back() + ">";
+    return "";
+}
+
+std::map<std::string, std::string> attributes(const std::string& tag) {
+    std::map<std::string, std::string> out;
+    static const std::regex re("([a-zA-Z_:][-a-zA-Z0-9_:.]*)=\"([^\"]*)\"");
+    for (auto it = std::sregex_iterator(tag.begin(), tag.end(), re); it != std::sregex_iterator(); ++it)
+        out[(*it)[1]] = (*it)[2];
+    return out;
+}
+
+std::vector<std::map<std::string, std::string>> elements(const std::string& svg, const std::string& start) {
+    std::vector<std::map<std::string, std::string>> out;
+    size_t i = 0;
+    while ((i = svg.find(start, i)) != std::string::npos) {
+        size_t e = svg.find('>', i);
+        out.push_back(attributes(svg.substr(i, e - i)));
+        i = e;
+    }
+    return out;
+}
+
+// Checks every bar of the picture against the envelope of its first line,
+// with the scale the picture declares on its panel.
+void check_bars(const std::string& svg, const std::vector<Envelope>& envelopes, size_t expected_columns) {
+    INFO(xml_problem(svg));
+    REQUIRE(xml_problem(svg).empty());
+    auto panels = elements(svg, "<g class=\"panel\"");
+    REQUIRE(!panels.empty());
+    auto columns = elements(svg, "<g class=\"column\"");
+    CHECK(columns.size() == expected_columns);
+    // Bars in order, each inside its column group.
+    size_t pos = 0, bars = 0;
+    while ((pos = svg.find("<g class=\"column\"", pos)) != std::string::npos) {
+        size_t end = svg.find("</g>", pos);
+        std::string col = svg.substr(pos, end - pos);
+        auto head = attributes(col.substr(0, col.find('>')));
+        uint32_t line = static_cast<uint32_t>(std::stoul(head["data-lines"]));
+        const Envelope* env = nullptr;
+        for (const auto& e : envelopes)
+            if (e.line == line) env = &e;
+        REQUIRE(env);
+        // the panel of this column: the last panel opened before it
+        size_t ppos = svg.rfind("<g class=\"panel\"", pos);
+        auto panel = attributes(svg.substr(ppos, svg.find('>', ppos) - ppos));
+        CHECK(panel["data-axis"] == std::string(1, env->axis));
+        double v_top = std::stod(panel["data-v-top"]), y_top = std::stod(panel["data-y-top"]),
+               ppu = std::stod(panel["data-px-per-unit"]);
+        auto bar = elements(col, "<rect class=\"envelope\"");
+        if (env->bounded()) {
+            REQUIRE(bar.size() == 1);
+            ++bars;
+            CHECK(std::stod(bar[0]["data-low"]) == doctest::Approx(env->lowest->value));
+            CHECK(std::stod(bar[0]["data-high"]) == doctest::Approx(env->highest->value));
+            double y = y_top + (v_top - env->highest->value) * ppu;
+            double h = (env->highest->value - env->lowest->value) * ppu;
+            CHECK(std::stod(bar[0]["y"]) == doctest::Approx(y).epsilon(1e-3));
+            CHECK(std::stod(bar[0]["height"]) == doctest::Approx(h).epsilon(1e-3));
+        } else {
+            CHECK(bar.empty());
+            CHECK(col.find("class=\"unbounded\"") != std::string::npos);
+        }
+        pos = end;
+    }
+    CHECK(bars > 0);
+}
+
+}  // namespace
+
+TEST_CASE("the XML check itself rejects broken documents") {
+    CHECK(xml_problem("<svg><g></g></svg>").empty());
+    CHECK(!xml_problem("<svg><g></svg>").empty());
+    CHECK(!xml_problem("<svg a=\"1\" a=\"2\"/>").empty());
+    CHECK(!xml_problem("<svg>a & b</svg>").empty());
+    CHECK(!xml_problem("<svg/><svg/>").empty());
+    CHECK(!xml_problem("<svg x=1/>").empty());
+}
+
+TEST_CASE("the side view: bars match the envelopes, violations are red, columns merge alike holes") {
+    Config config = load_config(fs::path(OSPLINT_SOURCE_DIR) / "examples" / "osplint.toml");
+    auto t = trace_text(kHead +
+                        "CALL OZAGR PX=0 PY=120. PR=5. PZ=-298. PI=5.\n"  // 5: below the travel
+                        "G98\n"
+                        "G81 X10. Y10. Z-20. R3. F100\n"                  // 7
+                        "X20. Y10.\nX30. Y10.\n"                           // 8, 9: same motion as 7
+                        "G80\n"
+                        "CALL OZAGR PR=5. PZ=VC1 PI=6.\n"                  // 11: unbounded
+                        "M30\n",
+                        config);
+    SvgPicture pic = render_motion_svg(t.envelopes, config, "T.MIN & <test>");
+    CHECK(pic.columns == 3 + 0);  // OZAGR, G81 x3, OZAGR (unbounded)
+    CHECK(pic.svg.find("T.MIN &amp; &lt;test&gt;") != std::string::npos);
+    check_bars(pic.svg, t.envelopes, pic.columns);
+    CHECK(pic.svg.find("class=\"violation\"") != std::string::npos);
+    CHECK(pic.svg.find("data-lines=\"7,8,9\"") != std::string::npos);
+    CHECK(pic.svg.find("class=\"travel\"") != std::string::npos);
+    CHECK(pic.svg.find("class=\"legend\"") != std::string::npos);
+    REQUIRE(pic.panels.size() == 1);
+    // the scale the picture reports is the one the bars use
+    const Envelope& oz = at_line(t, 5);
+    CHECK(pic.panels[0].y(oz.highest->value) < pic.panels[0].y(oz.lowest->value));
+}
+
+TEST_CASE("osplint trace --svg on the bundled examples draws well-formed pictures of their envelopes") {
+    fs::path src(OSPLINT_SOURCE_DIR);
+    Config config = load_config(src / "examples" / "osplint.toml");
+    fs::path tmp = fs::temp_directory_path() / ("osplint_motion_" + std::to_string(::getpid()));
+    fs::create_directories(tmp);
+    size_t drawn = 0;
+    for (const char* name : {"BACKBAR.MIN", "BACKBORE.MIN", "DRILL.MIN", "KEYWAY.MIN", "PUMPBODY.MIN", "TAPG114.MIN",
+                             "WALLFIN.MIN", "mistakes/ZTRAVEL.MIN"}) {
+        CAPTURE(name);
+        fs::path in = src / "examples" / name;
+        fs::path out = tmp / (fs::path(name).stem().string() + ".svg");
+        std::string cmd = std::string("\"") + OSPLINT_BINARY + "\" trace --svg \"" + out.string() + "\" \"" +
+                          in.string() + "\" > \"" + (tmp / "trace.txt").string() + "\" 2>&1";
+        REQUIRE(std::system(cmd.c_str()) == 0);
+        std::string svg = testing::read_file(out);
+        std::string text = testing::read_file(tmp / "trace.txt");
+        CHECK(text.find("envelope [") != std::string::npos);
+        auto t = trace_text(testing::read_file(in), config, in.string());
+        REQUIRE(!t.envelopes.empty());
+        SvgPicture pic = render_motion_svg(t.envelopes, config, in.filename().string());
+        CHECK(svg == pic.svg);  // the CLI draws exactly what the library computes
+        check_bars(svg, t.envelopes, pic.columns);
+        if (std::string(name) == "mistakes/ZTRAVEL.MIN") CHECK(svg.find("class=\"violation\"") != std::string::npos);
+        else CHECK(svg.find("class=\"violation\"") == std::string::npos);
+        ++drawn;
+    }
+    CHECK(drawn == 8);
+    fs::remove_all(tmp);
+}
