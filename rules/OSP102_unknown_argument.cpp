@@ -27,9 +27,11 @@ public:
             } else {
                 msg = a.name + " is not an argument of " + spec->name +
                       ": the macro never reads it, so the value is silently lost";
+                // Two-letter names are all one edit apart (PC, PX, PZ ...): suggest
+                // only for longer names, where a close match means a typo.
                 const ArgSpec* best = nullptr;
                 for (const auto& s : spec->args)
-                    if (macro::edit_distance(s.name, a.name) == 1) {
+                    if (a.name.size() >= 3 && macro::edit_distance(s.name, a.name) == 1) {
                         best = &s;
                         break;
                     }
