@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "frontend.h"
+#include "suppress.h"
 
 namespace osplint {
 
@@ -20,7 +21,9 @@ FileResult check_text(std::string path, std::string text, const Config& config, 
         return r;
     }
     ProgramFile file = parse_program_file(std::move(path), std::move(text));
-    r.diagnostics = analyze(file, config, options).diagnostics;
+    SuppressionResult s = apply_suppressions(file, analyze(file, config, options).diagnostics, config, options);
+    r.diagnostics = std::move(s.diagnostics);
+    r.suppressed = std::move(s.suppressed);
     return r;
 }
 

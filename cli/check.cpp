@@ -1,6 +1,10 @@
 // `osplint check`: the batch path for CAM pre-flight and CI.
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -8,9 +12,14 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <thread>
 
+#include "analyzer/baseline.h"
 #include "analyzer/errors.h"
+#include "analyzer/formats.h"
 #include "analyzer/report.h"
+#include "analyzer/sarif.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"
@@ -21,7 +30,8 @@ namespace osplint::cli {
 
 void add_check_options(CLI::App& cmd, CheckOptions& o) {
     cmd.add_option("paths", o.paths, "Files, directories (.MIN .SSB .SUB .SDF .LIB .NC) or - for stdin")->required();
-    cmd.add_option("--format", o.format, "Output format")->check(CLI::IsMember({"text", "json"}));
+    cmd.add_option("--format", o.format, "Output format: text, json, sarif, gcc or github")
+        ->check(CLI::IsMember({"text", "json", "sarif", "gcc", "github"}));
     cmd.add_option("--config", o.config, "Configuration file (default: nearest osplint.toml of each file)");
     cmd.add_option("--fail-on", o.fail_on, "Lowest severity that makes the exit code 1")
         ->check(CLI::IsMember({"error", "warning", "info", "never"}));
@@ -29,6 +39,10 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
     cmd.add_option("--ignore", o.ignore, "Not these rules (IDs or prefixes)")->delimiter(',');
     cmd.add_option("--stdin-filename", o.stdin_filename, "Path to report for the program read from stdin");
     cmd.add_option("--color", o.color, "Color in text output")->check(CLI::IsMember({"auto", "always", "never"}));
+    cmd.add_option("-j,--jobs", o.jobs, "Files checked in parallel (default: one per core)");
+    cmd.add_option("--baseline", o.baseline, "Report only findings not recorded in this baseline file");
+    cmd.add_option("--write-baseline", o.write_baseline,
+                   "Record the current findings in this baseline file (they are then accepted)");
 }
 
 namespace {
@@ -70,32 +84,97 @@ bool read_stdin(std::string& out) {
     return !std::cin.bad();
 }
 
+// Checks every file on a pool of worker threads. Each worker reads, parses and
+// analyzes one file at a time and keeps only its findings, so at most `jobs`
+// parsed files exist at once; results land in the slot of their file, so the
+// report is in path order and identical whatever the number of workers.
+std::vector<FileResult> check_files(const std::vector<std::string>& files,
+                                    const std::vector<std::shared_ptr<Config>>& configs,
+                                    const std::string& stdin_name, const std::string& stdin_text,
+                                    const AnalysisOptions& options, unsigned jobs) {
+    std::vector<FileResult> results(files.size());
+    std::atomic<size_t> next{0};
+    std::atomic<size_t> done{0};
+    std::mutex mu;
+    std::condition_variable cv;
+    auto worker = [&] {
+        for (size_t i; (i = next.fetch_add(1)) < files.size();) {
+            FileResult r;
+            try {
+                if (files[i] == "-") r = check_text(stdin_name, stdin_text, *configs[i], options);
+                else r = check_file(files[i], *configs[i], options);
+            } catch (const std::exception& e) {
+                r = FileResult{};
+                r.path = files[i] == "-" ? stdin_name : files[i];
+                r.io_error = std::string("internal error while checking this file (please report it): ") + e.what();
+            } catch (...) {
+                r = FileResult{};
+                r.path = files[i] == "-" ? stdin_name : files[i];
+                r.io_error = "internal error while checking this file (please report it)";
+            }
+            results[i] = std::move(r);
+            done.fetch_add(1);
+            cv.notify_one();
+        }
+    };
+
+    const bool progress = files.size() > 20 && isatty(STDERR_FILENO);
+    unsigned n = jobs ? jobs : std::max(1u, std::thread::hardware_concurrency());
+    n = static_cast<unsigned>(std::min<size_t>(n, std::max<size_t>(files.size(), 1)));
+    if (n <= 1 && !progress) {
+        worker();
+        return results;
+    }
+    std::vector<std::thread> pool;
+    for (unsigned k = 0; k < n; ++k) pool.emplace_back(worker);
+    if (progress) {
+        std::unique_lock<std::mutex> lock(mu);
+        while (done.load() < files.size()) {
+            cv.wait_for(lock, std::chrono::milliseconds(100));
+            std::cerr << "\rosplint: checked " << done.load() << "/" << files.size() << " files" << std::flush;
+        }
+        std::cerr << "\r\x1b[K" << std::flush;
+    }
+    for (auto& t : pool) t.join();
+    return results;
+}
+
 }  // namespace
 
 int run_check(const CheckOptions& o) {
     validate_selection(o);
     std::vector<std::string> errors;
     std::vector<std::string> files = expand_paths(o.paths, errors);
+    const std::string stdin_name = o.stdin_filename.empty() ? std::string("<stdin>") : o.stdin_filename;
 
-    // Configuration: one file for everything (--config), else the nearest osplint.toml per directory.
-    std::map<std::string, std::shared_ptr<Config>> configs;
+    // Configuration: one file for everything (--config), else the nearest
+    // osplint.toml of each file's directory (for stdin: of --stdin-filename's).
+    std::map<std::string, std::shared_ptr<Config>> by_dir;
     std::shared_ptr<Config> fixed;
     if (!o.config.empty()) {
         fixed = std::make_shared<Config>(load_config(o.config));
         apply_selection(*fixed, o);
     }
+    auto dir_of = [&](const std::string& file) {
+        fs::path dir = file == "-" ? (o.stdin_filename.empty() ? fs::path(".") : fs::path(o.stdin_filename).parent_path())
+                                   : fs::path(file).parent_path();
+        if (dir.empty()) dir = ".";
+        return dir;
+    };
     auto config_for = [&](const std::string& file) -> std::shared_ptr<Config> {
         if (fixed) return fixed;
-        fs::path dir = file == "-" ? fs::current_path() : fs::path(file).parent_path();
-        if (dir.empty()) dir = ".";
+        fs::path dir = dir_of(file);
         std::string key = dir.string();
-        if (auto it = configs.find(key); it != configs.end()) return it->second;
+        if (auto it = by_dir.find(key); it != by_dir.end()) return it->second;
         auto c = std::make_shared<Config>();
         if (auto f = find_config(dir)) *c = load_config(*f);
         apply_selection(*c, o);
-        configs[key] = c;
+        by_dir[key] = c;
         return c;
     };
+    std::vector<std::shared_ptr<Config>> configs;
+    configs.reserve(files.size());
+    for (const auto& f : files) configs.push_back(config_for(f));
 
     // Program names defined by the checked files and by the subprogram files
     // (.SSB/.SUB/.LIB/.MSB) beside them, for unknown-subprogram checks.
@@ -104,16 +183,7 @@ int run_check(const CheckOptions& o) {
     ProgramNames names;
     std::map<std::string, bool> scanned_dirs;
     for (const auto& f : files) {
-        if (f == "-") {
-            if (!have_stdin) {
-                read_stdin(stdin_text);
-                have_stdin = true;
-            }
-            collect_program_names(stdin_text, names);
-            continue;
-        }
-        fs::path dir = fs::path(f).parent_path();
-        if (dir.empty()) dir = ".";
+        fs::path dir = dir_of(f);
         if (!scanned_dirs[dir.string()]) {
             scanned_dirs[dir.string()] = true;
             std::error_code ec;
@@ -128,6 +198,14 @@ int run_check(const CheckOptions& o) {
                 collect_program_names(text, names);
             }
         }
+        if (f == "-") {
+            if (!have_stdin) {
+                read_stdin(stdin_text);
+                have_stdin = true;
+            }
+            collect_program_names(stdin_text, names);
+            continue;
+        }
         std::error_code ec;
         if (fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32)) {
             std::ifstream in(f, std::ios::binary);
@@ -138,33 +216,44 @@ int run_check(const CheckOptions& o) {
 
     AnalysisOptions options;
     options.known_programs = &names;
-    std::vector<FileResult> results;
+    std::vector<FileResult> results = check_files(files, configs, stdin_name, stdin_text, options, o.jobs);
     bool io_failed = !errors.empty();
-    for (const auto& f : files) {
-        auto config = config_for(f);
-        FileResult r;
-        if (f == "-") {
-            std::string name = o.stdin_filename.empty() ? std::string("<stdin>") : o.stdin_filename;
-            r = check_text(name, stdin_text, *config, options);
-        } else {
-            r = check_file(f, *config, options);
-        }
+    for (const auto& r : results)
         if (!r.io_error.empty()) {
             errors.push_back(r.path + ": " + r.io_error);
             io_failed = true;
         }
-        results.push_back(std::move(r));
+
+    // Baselines: write the current findings, or hide the recorded ones.
+    if (!o.write_baseline.empty()) {
+        Baseline b = make_baseline(results, o.write_baseline);
+        write_baseline(b, o.write_baseline);
+        std::cerr << "osplint: recorded " << b.entries.size() << " finding" << (b.entries.size() == 1 ? "" : "s")
+                  << " in " << o.write_baseline << "\n";
+        apply_baseline(results, b, o.write_baseline);
+    } else if (!o.baseline.empty()) {
+        apply_baseline(results, load_baseline(o.baseline), o.baseline);
     }
 
-    bool color = false;
-    if (o.color == "always") color = true;
-    else if (o.color == "auto") color = isatty(STDOUT_FILENO) && !std::getenv("NO_COLOR");
-    if (o.color == "always" && std::getenv("NO_COLOR")) color = false;
+    auto use_color = [&](int fd) {
+        if (std::getenv("NO_COLOR")) return false;
+        if (o.color == "always") return true;
+        return o.color == "auto" && isatty(fd);
+    };
 
     if (o.format == "json") {
-        std::cout << render_json(results);
+        std::cout << render_json_report(results);
+    } else if (o.format == "sarif") {
+        std::cout << render_sarif(results, SarifOptions{fs::current_path()});
+    } else if (o.format == "gcc") {
+        std::cout << render_gcc(results);
+    } else if (o.format == "github") {
+        std::cout << render_github(results);
+        std::cout.flush();
+        // The annotations are for the pull request; the log gets the full report.
+        std::cerr << render_text(results, TextOptions{use_color(STDERR_FILENO)});
     } else {
-        std::cout << render_text(results, TextOptions{color});
+        std::cout << render_text(results, TextOptions{use_color(STDOUT_FILENO)});
     }
     std::cout.flush();
     for (const auto& e : errors) std::cerr << "osplint: " << e << "\n";

@@ -18,6 +18,9 @@ struct CheckOptions {
     std::vector<std::string> ignore;
     std::string stdin_filename;
     std::string color = "auto";
+    unsigned jobs = 0;           // -j: worker threads; 0 = one per core
+    std::string baseline;        // --baseline: report only findings not recorded there
+    std::string write_baseline;  // --write-baseline: record the current findings there
 };
 void add_check_options(CLI::App& cmd, CheckOptions& o);
 int run_check(const CheckOptions& o);
@@ -25,6 +28,8 @@ int run_check(const CheckOptions& o);
 struct TraceOptions {
     std::string path;
     std::string config;
+    std::string svg;             // --svg OUT.svg: also draw the cycle-axis side view
+    bool envelopes_only = false; // --envelopes: only the blocks that run a macro or a hole
 };
 void add_trace_options(CLI::App& cmd, TraceOptions& o);
 int run_trace(const TraceOptions& o);

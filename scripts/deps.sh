@@ -2,7 +2,15 @@
 # Installs the Debian 12 packages osplint needs to build and test, if any is missing.
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config libtree-sitter-dev libfmt-dev nlohmann-json3-dev
-          libcli11-dev libtomlplusplus-dev doctest-dev "$@")
+          libcli11-dev libtomlplusplus-dev doctest-dev
+          neovim  # the language server's end-to-end test (tests/scripts/lsp_neovim.sh)
+          "$@")
+# npm and node for the SARIF validation test (tests/sarif/validate.sh installs
+# Microsoft's SARIF multitool from the npm registry), unless a node
+# installation already provides them.
+if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -15,16 +15,22 @@
 #include "analyzer/analyzer.h"
 #include "analyzer/config.h"
 #include "analyzer/diagnostic.h"
+#include "analyzer/suppress.h"
 
 namespace osplint {
 
 struct FileResult {
     std::string path;
     std::vector<Diagnostic> diagnostics;
+    // Findings silenced by an `(osplint: disable=...)` directive of the file
+    // (or, in the CLI, by a baseline), with the reason given. Not counted in
+    // summaries or exit codes; listed by the JSON and SARIF reports.
+    std::vector<SuppressedDiagnostic> suppressed;
     // Set when the file could not be read (the path is missing, a directory, ...).
     std::string io_error;
 };
 
+// Parses, analyzes and applies the file's suppression directives.
 FileResult check_text(std::string path, std::string text, const Config& config,
                       const AnalysisOptions& options = {});
 FileResult check_file(const std::string& path, const Config& config, const AnalysisOptions& options = {});

@@ -1,0 +1,24 @@
+// OSP901 unknown-rule-in-suppression: an osplint directive that cannot be
+// honoured (unknown rule ID, a rule that cannot be suppressed, malformed text).
+//
+// The findings come from the suppression pass (analyzer/suppress.cpp), which
+// runs after the rules over the file's comments; this rule only carries the
+// metadata so that the rule is listed, documented and configurable.
+#include "analyzer/rule.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP901", "unknown-rule-in-suppression", Severity::Warning,
+                         "An osplint suppression directive names an unknown or unsuppressible rule, or is malformed"};
+
+class UnknownRuleInSuppression final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP901() { return std::make_unique<UnknownRuleInSuppression>(); }
+
+}  // namespace osplint

@@ -1,0 +1,23 @@
+// OSP902 unused-suppression: a rule ID in an osplint directive that silenced
+// no finding. Off by default.
+//
+// The findings come from the suppression pass (analyzer/suppress.cpp); this
+// rule only carries the metadata.
+#include "analyzer/rule.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP902", "unused-suppression", Severity::Info,
+                         "An osplint suppression directive silences no finding", false};
+
+class UnusedSuppression final : public Rule {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP902() { return std::make_unique<UnusedSuppression>(); }
+
+}  // namespace osplint

@@ -1,0 +1,295 @@
+// Output formats for CI: SARIF structure, gcc lines, GitHub workflow commands
+// and their escaping, the JSON report's suppressed findings.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "analyzer/formats.h"
+#include "analyzer/report.h"
+#include "analyzer/sarif.h"
+#include "osplint/osplint.h"
+#include "rules/registry.h"
+
+using namespace osplint;
+using nlohmann::json;
+
+namespace {
+
+const std::string kProgram =
+    "O1000\n"
+    "N10 G0 X50 Y30\n"
+    "(\xF0\x9F\x93\x90 TOOL) CALL OZAGR PR=5 PZ=-20 PI=12 M52\n"  // an emoji: 1 code point, 2 UTF-16 units
+    "N10 G0 X0 Y0\n"
+    "CALL OZAGA PR=5 PZ=-20 PI=12\n"
+    "CALL OZAGR PR=5 PZ=-20 PI=12 M52 M8 (osplint: disable=OSP104 -- reviewed with the setter)\n"
+    "G0 X20 (osplint: disable=OSP1O4)\n"
+    "M30\n";
+
+std::vector<FileResult> check(const std::string& path, const std::string& text) {
+    return {check_text(path, text, Config{})};
+}
+
+json sarif_of(const std::vector<FileResult>& r, const std::string& root = "/proj") {
+    return json::parse(render_sarif(r, SarifOptions{root}));
+}
+
+std::map<std::string, std::string> fingerprints_by_rule_and_text(const json& log) {
+    std::map<std::string, std::string> out;
+    for (const auto& r : log["runs"][0]["results"])
+        out[r["ruleId"].get<std::string>() + "|" + r["message"]["text"].get<std::string>()] =
+            r["partialFingerprints"][std::string(kFingerprintKey)].get<std::string>();
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("GitHub escaping: data escapes % CR LF, properties also : and ,") {
+    CHECK(github_escape_data("100% done\r\nnext: a, b") == "100%25 done%0D%0Anext: a, b");
+    CHECK(github_escape_property("C:\\dir,x/100%\n") == "C%3A\\dir%2Cx/100%25%0A");
+    CHECK(github_escape_data("%25") == "%2525");  // already-escaped text is escaped again
+    CHECK(github_escape_property("") == "");
+}
+
+TEST_CASE("github format: one command per finding, errors first, escaped") {
+    auto results = check("dir,with:odd%/P.MIN", kProgram);
+    std::string out = render_github(results);
+    std::vector<std::string> lines;
+    for (size_t i = 0; i < out.size();) {
+        size_t e = out.find('\n', i);
+        lines.push_back(out.substr(i, e - i));
+        i = e + 1;
+    }
+    REQUIRE(lines.size() == results[0].diagnostics.size());
+    int rank_prev = 0;
+    for (const auto& l : lines) {
+        CAPTURE(l);
+        int rank = l.rfind("::error ", 0) == 0 ? 0 : l.rfind("::warning ", 0) == 0 ? 1 : l.rfind("::notice ", 0) == 0 ? 2 : -1;
+        REQUIRE(rank >= 0);
+        CHECK(rank >= rank_prev);
+        rank_prev = rank;
+        CHECK(l.find("file=dir%2Cwith%3Aodd%25/P.MIN,line=") != std::string::npos);
+        CHECK(l.find('\r') == std::string::npos);
+    }
+    // The OSP104 error: position, end, title, and the note on a second (escaped) line.
+    const std::string* m52 = nullptr;
+    for (const auto& l : lines)
+        if (l.find("title=OSP104") != std::string::npos) m52 = &l;
+    REQUIRE(m52);
+    CHECK(m52->rfind("::error file=dir%2Cwith%3Aodd%25/P.MIN,line=3,col=39,endLine=3,endColumn=42,title=OSP104::M52 on the CALL line", 0) == 0);
+    CHECK(m52->find("%0Anote: ") != std::string::npos);
+    CHECK(m52->find("%0Afix: Replace M52 by PM=52") != std::string::npos);
+    // The unknown-subprogram info is a notice; the duplicate sequence name a warning.
+    CHECK(out.find("::notice file=dir%2Cwith%3Aodd%25/P.MIN,line=5,") != std::string::npos);
+    CHECK(out.find("::warning file=dir%2Cwith%3Aodd%25/P.MIN,line=4,col=1,endLine=4,endColumn=4,title=OSP003::") !=
+          std::string::npos);
+    // The suppressed finding is not annotated (its block still has OSP108 for the M8).
+    int line6 = 0;
+    for (const auto& l : lines)
+        if (l.find(",line=6,") != std::string::npos) {
+            ++line6;
+            CHECK(l.find("title=OSP104") == std::string::npos);
+        }
+    CHECK(line6 == 1);
+}
+
+TEST_CASE("gcc format: path:line:col: severity: message [ID], one line each") {
+    FileResult r;
+    r.path = "A.MIN";
+    Diagnostic d;
+    d.rule = "OSP005";
+    d.severity = Severity::Info;
+    d.message = "first line\nsecond line";
+    d.range.start = {7, 5, 5, 5};
+    d.range.end = {7, 9, 9, 9};
+    r.diagnostics.push_back(d);
+    d.rule = "OSP104";
+    d.severity = Severity::Error;
+    d.message = "M52 on the CALL line";
+    r.diagnostics.push_back(d);
+    d.rule = "OSP003";
+    d.severity = Severity::Warning;
+    r.diagnostics.push_back(d);
+    std::string out = render_gcc({r});
+    CHECK(out ==
+          "A.MIN:7:6: note: first line second line [OSP005]\n"
+          "A.MIN:7:6: error: M52 on the CALL line [OSP104]\n"
+          "A.MIN:7:6: warning: M52 on the CALL line [OSP003]\n");
+
+    auto real = check("P.MIN", kProgram);
+    std::string g = render_gcc(real);
+    CHECK(g.find("P.MIN:3:39: error: M52 on the CALL line of OZAGR") != std::string::npos);
+    CHECK(g.find("[OSP104]\n") != std::string::npos);
+    size_t lines = std::count(g.begin(), g.end(), '\n');
+    CHECK(lines == real[0].diagnostics.size());
+}
+
+TEST_CASE("SARIF: required structure, rules, ruleIndex, levels, columns, locations") {
+    auto results = check("/proj/parts/P.MIN", kProgram);
+    FileResult missing;
+    missing.path = "/proj/parts/GONE.MIN";
+    missing.io_error = "no such file";
+    results.push_back(missing);
+    json log = sarif_of(results);
+
+    CHECK(log["$schema"] == std::string(kSarifSchema));
+    CHECK(log["version"] == "2.1.0");
+    REQUIRE(log["runs"].size() == 1);
+    const json& run = log["runs"][0];
+    const json& driver = run["tool"]["driver"];
+    CHECK(driver["name"] == "osplint");
+    CHECK(driver["version"] == std::string(version()));
+    CHECK(driver["informationUri"] == "https://github.com/osplint/osplint");
+    CHECK(run["columnKind"] == "utf16CodeUnits");
+    CHECK(run["originalUriBaseIds"]["%SRCROOT%"]["uri"] == "file:///proj/");
+    REQUIRE(run["invocations"].size() == 1);
+    CHECK(run["invocations"][0]["executionSuccessful"] == false);  // a file could not be read
+    CHECK(run["invocations"][0]["toolExecutionNotifications"][0]["level"] == "error");
+
+    // Rules: every reported rule once, in ID order, with descriptions and help from the doc.
+    const json& rules = driver["rules"];
+    std::set<std::string> reported;
+    for (const auto& d : results[0].diagnostics) reported.insert(d.rule);
+    for (const auto& s : results[0].suppressed) reported.insert(s.diagnostic.rule);
+    REQUIRE(rules.size() == reported.size());
+    std::string prev;
+    for (const auto& r : rules) {
+        std::string id = r["id"];
+        CAPTURE(id);
+        CHECK(id > prev);
+        prev = id;
+        const RuleMeta* m = find_rule(id);
+        REQUIRE(m);
+        CHECK(r["name"] == std::string(m->name));
+        CHECK_FALSE(r["shortDescription"]["text"].get<std::string>().empty());
+        CHECK_FALSE(r["fullDescription"]["text"].get<std::string>().empty());
+        CHECK(r["help"]["markdown"].get<std::string>().rfind("# " + id, 0) == 0);
+        CHECK_FALSE(r["help"]["text"].get<std::string>().empty());
+        std::string level = r["defaultConfiguration"]["level"];
+        CHECK(level == (m->severity == Severity::Error ? "error" : m->severity == Severity::Warning ? "warning" : "note"));
+    }
+
+    // Results: ruleIndex consistent with ruleId, level mapped, location relative to %SRCROOT%.
+    const json& res = run["results"];
+    REQUIRE(res.size() == results[0].diagnostics.size() + results[0].suppressed.size());
+    std::set<std::string> levels;
+    for (const auto& r : res) {
+        std::string id = r["ruleId"];
+        CAPTURE(id);
+        size_t idx = r["ruleIndex"];
+        REQUIRE(idx < rules.size());
+        CHECK(rules[idx]["id"] == id);
+        std::string level = r["level"];
+        CHECK((level == "error" || level == "warning" || level == "note"));
+        levels.insert(level);
+        CHECK_FALSE(r["message"]["text"].get<std::string>().empty());
+        const json& pl = r["locations"][0]["physicalLocation"];
+        CHECK(pl["artifactLocation"]["uri"] == "parts/P.MIN");
+        CHECK(pl["artifactLocation"]["uriBaseId"] == "%SRCROOT%");
+        for (const char* k : {"startLine", "startColumn", "endLine", "endColumn"}) CHECK(pl["region"][k].is_number());
+        CHECK(r["partialFingerprints"][std::string(kFingerprintKey)].get<std::string>().size() == 16);
+    }
+    CHECK(levels == std::set<std::string>{"error", "warning", "note"});
+
+    // The M52 after the emoji: code-point column 39, UTF-16 column 40 (1-based).
+    const json* m52 = nullptr;
+    for (const auto& r : res)
+        if (r["ruleId"] == "OSP104" && !r.contains("suppressions")) m52 = &r;
+    REQUIRE(m52);
+    const json& region = (*m52)["locations"][0]["physicalLocation"]["region"];
+    CHECK(region["startLine"] == 3);
+    CHECK(region["startColumn"] == 40);
+    CHECK(region["endColumn"] == 43);
+    // Its fix, as an artifact change.
+    REQUIRE((*m52)["fixes"].size() == 1);
+    const json& rep = (*m52)["fixes"][0]["artifactChanges"][0]["replacements"][0];
+    CHECK(rep["deletedRegion"]["startColumn"] == 40);
+    CHECK(rep["insertedContent"]["text"] == "PM=52");
+    CHECK((*m52)["fixes"][0]["artifactChanges"][0]["artifactLocation"]["uri"] == "parts/P.MIN");
+
+    // The duplicate sequence name points at the first definition.
+    bool related = false;
+    for (const auto& r : res)
+        if (r["ruleId"] == "OSP003") {
+            REQUIRE(r.contains("relatedLocations"));
+            CHECK(r["relatedLocations"][0]["physicalLocation"]["region"]["startLine"] == 2);
+            CHECK(r["relatedLocations"][0]["id"] == 1);
+            related = true;
+        }
+    CHECK(related);
+
+    // The suppressed finding: listed with its in-source justification.
+    bool suppressed = false;
+    for (const auto& r : res)
+        if (r.contains("suppressions")) {
+            suppressed = true;
+            CHECK(r["ruleId"] == "OSP104");
+            CHECK(r["suppressions"][0]["kind"] == "inSource");
+            CHECK(r["suppressions"][0]["justification"] == "reviewed with the setter");
+            CHECK(r["locations"][0]["physicalLocation"]["region"]["startLine"] == 6);
+        }
+    CHECK(suppressed);
+}
+
+TEST_CASE("SARIF: partial fingerprints stay when a line is inserted above") {
+    auto a = fingerprints_by_rule_and_text(sarif_of(check("/proj/P.MIN", kProgram)));
+    auto b = fingerprints_by_rule_and_text(sarif_of(check("/proj/P.MIN", "(REVISION C)\n" + kProgram)));
+    REQUIRE(a.size() >= 4);
+    CHECK(a == b);
+}
+
+TEST_CASE("SARIF: artifact URIs are percent-encoded, relative under the root, absolute file: URIs outside") {
+    bool rel = false;
+    CHECK(sarif_artifact_uri("/proj/dir with blank/\xC3\x84#1.MIN", "/proj", rel) == "dir%20with%20blank/%C3%84%231.MIN");
+    CHECK(rel);
+    CHECK(sarif_artifact_uri("/other/P.MIN", "/proj", rel) == "file:///other/P.MIN");
+    CHECK_FALSE(rel);
+    CHECK(sarif_artifact_uri("<stdin>", std::filesystem::current_path(), rel) == "%3Cstdin%3E");
+    CHECK(rel);
+}
+
+TEST_CASE("SARIF: baseline matches are listed as externally suppressed") {
+    auto results = check("/proj/P.MIN", kProgram);
+    FileResult& r = results[0];
+    SuppressedDiagnostic s;
+    s.kind = SuppressedDiagnostic::Kind::Baseline;
+    s.reason = "recorded in the baseline b.json";
+    s.diagnostic = r.diagnostics.front();
+    r.diagnostics.erase(r.diagnostics.begin());
+    r.suppressed.push_back(s);
+    json log = sarif_of(results);
+    int external = 0;
+    for (const auto& x : log["runs"][0]["results"])
+        if (x.contains("suppressions") && x["suppressions"][0]["kind"] == "external") {
+            ++external;
+            CHECK(x["suppressions"][0]["justification"] == "recorded in the baseline b.json");
+        }
+    CHECK(external == 1);
+}
+
+TEST_CASE("JSON report: the version 1 contract unchanged, plus suppressed findings with their reason") {
+    auto results = check("P.MIN", kProgram);
+    json plain = json::parse(render_json(results));
+    json full = json::parse(render_json_report(results));
+    REQUIRE(full["files"].size() == 1);
+    REQUIRE(full["files"][0].contains("suppressed"));
+    json sup = full["files"][0]["suppressed"];
+    REQUIRE(sup.size() == 1);
+    CHECK(sup[0]["rule"] == "OSP104");
+    CHECK(sup[0]["range"]["start"]["line"] == 6);
+    CHECK(sup[0]["suppression"]["kind"] == "inSource");
+    CHECK(sup[0]["suppression"]["reason"] == "reviewed with the setter");
+    CHECK(sup[0]["suppression"]["scope"] == "block");
+    CHECK(sup[0]["suppression"]["directive"]["start"]["line"] == 6);
+    for (const char* k : {"rule", "name", "severity", "message", "range", "notes", "fixes", "fingerprint"})
+        CHECK(sup[0].contains(k));
+    CHECK(full["summary"]["suppressed"] == 1);
+    // Removing the additions gives back exactly the version 1 document.
+    full["files"][0].erase("suppressed");
+    full["summary"].erase("suppressed");
+    CHECK(full == plain);
+}
