@@ -22,6 +22,8 @@ using namespace osplint;
 
 namespace osplint::cli {
 
+int run_lsp();  // cli/lsp.cpp
+
 bool is_program_file(const fs::path& p) {
     std::string ext = p.extension().string();
     for (auto& c : ext) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -53,6 +55,8 @@ std::vector<std::string> expand_paths(const std::vector<std::string>& args, std:
                 if (it->is_regular_file(e2) && is_program_file(it->path())) found.push_back(it->path().string());
             }
             std::sort(found.begin(), found.end());
+            if (found.empty())
+                errors.push_back(a + ": no program files (.MIN .SSB .SUB .SDF .LIB .NC .MSB) in this directory");
             files.insert(files.end(), found.begin(), found.end());
         } else {
             files.push_back(a);  // missing files and links are reported when checked
@@ -136,6 +140,8 @@ int main(int argc, char** argv) {
     auto* trace_cmd = app.add_subcommand("trace", "Print the modal state and cycle envelopes block by block");
     cli::add_trace_options(*trace_cmd, trace);
 
+    auto* lsp_cmd = app.add_subcommand("lsp", "Run the language server (LSP 3.17 over stdin/stdout)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -153,6 +159,7 @@ int main(int argc, char** argv) {
         if (*rules_cmd) return cmd_rules();
         if (*explain_cmd) return cmd_explain(explain_what);
         if (*trace_cmd) return cli::run_trace(trace);
+        if (*lsp_cmd) return cli::run_lsp();
         if (*config_cmd) {
             Config c;
             if (!config_file.empty()) {

@@ -1,0 +1,28 @@
+// `osplint lsp`: the language server over stdin/stdout (LSP 3.17).
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <iostream>
+#include <string_view>
+
+#include "analyzer/lsp_server.h"
+
+namespace osplint::cli {
+
+int run_lsp() {
+    // A client that goes away must not kill the server with SIGPIPE mid-write:
+    // the write fails and the message loop ends at the end of the input.
+    std::signal(SIGPIPE, SIG_IGN);
+    lsp::FdSource in(STDIN_FILENO);
+    lsp::FdSink out(STDOUT_FILENO);
+    lsp::ServerOptions options;
+    options.log = [](const std::string& message) { std::cerr << "osplint lsp: " << message << std::endl; };
+    // OSPLINT_LSP_TIMING=1: log how long each analysis took.
+    if (const char* t = std::getenv("OSPLINT_LSP_TIMING"); t && *t && std::string_view(t) != "0")
+        options.log_timing = true;
+    lsp::Server server(in, out, options);
+    return server.run();
+}
+
+}  // namespace osplint::cli

@@ -1,0 +1,655 @@
+// Language server transcripts: framed messages in, framed messages out, over
+// an in-memory transport, with the server's message loop on its own thread.
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "analyzer/lsp_server.h"
+
+using namespace osplint;
+using namespace osplint::lsp;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kTimeoutMs = 20000;
+
+// A client: sends framed messages, collects what the server sends.
+class Session {
+public:
+    explicit Session(ServerOptions options = quiet()) : server_(in_, out_, std::move(options)) {
+        thread_ = std::thread([this] { exit_code_ = server_.run(); });
+    }
+    ~Session() {
+        in_.close();
+        if (thread_.joinable()) thread_.join();
+    }
+    static ServerOptions quiet() {
+        ServerOptions o;
+        o.debounce = std::chrono::milliseconds(5);
+        return o;
+    }
+
+    void raw(std::string_view bytes) { in_.push(bytes); }
+    void send(const json& msg) { raw(frame(msg.dump())); }
+    void notify(const std::string& method, json params) { send(make_notification(method, std::move(params))); }
+    int request_async(const std::string& method, json params) {
+        const int id = next_id_++;
+        send(make_request(id, method, std::move(params)));
+        return id;
+    }
+    // The response to `id` (other messages are kept for later).
+    json response(const json& id) {
+        return wait([&](const json& m) { return m.contains("id") && m["id"] == id && !m.contains("method"); });
+    }
+    json request(const std::string& method, json params) { return response(request_async(method, std::move(params))); }
+    json result(const std::string& method, json params) {
+        json r = request(method, std::move(params));
+        REQUIRE_MESSAGE(r.contains("result"), r.dump());
+        return r["result"];
+    }
+    // The publishDiagnostics of `uri` for `version` (or any version when < 0).
+    json diagnostics(const std::string& uri, int64_t version = -1) {
+        return wait([&](const json& m) {
+            return m.value("method", "") == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri &&
+                   (version < 0 || m["params"].value("version", int64_t(-1)) == version);
+        })["params"];
+    }
+    json notification(const std::string& method) {
+        return wait([&](const json& m) { return m.value("method", "") == method; });
+    }
+    // Waits for the first message (received or backlogged) that matches.
+    template <class P>
+    json wait(P pred) {
+        for (auto it = backlog_.begin(); it != backlog_.end(); ++it)
+            if (pred(*it)) {
+                json m = *it;
+                backlog_.erase(it);
+                return m;
+            }
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kTimeoutMs);
+        while (std::chrono::steady_clock::now() < deadline) {
+            std::string body = out_.next(100);
+            if (body.empty()) continue;
+            json m = json::parse(body);
+            seen_.push_back(m);
+            if (pred(m)) return m;
+            backlog_.push_back(std::move(m));
+        }
+        FAIL("timed out waiting for a message");
+        return nullptr;
+    }
+    std::size_t backlog_size() const { return backlog_.size(); }
+    const std::vector<json>& seen() const { return seen_; }
+    // Closes the input and returns the exit code of run().
+    int finish() {
+        in_.close();
+        if (thread_.joinable()) thread_.join();
+        return exit_code_;
+    }
+    bool finished_within(int ms) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
+        while (exit_code_ < 0 && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        return exit_code_ >= 0;
+    }
+    int exit_code() const { return exit_code_; }
+
+    json initialize(bool utf8 = true, json extra = json::object()) {
+        json caps = {{"general", {{"positionEncodings", utf8 ? json{"utf-8", "utf-16"} : json{"utf-16"}}}}};
+        json params = {{"processId", nullptr}, {"rootUri", nullptr}, {"capabilities", caps}};
+        params.update(extra);
+        json r = result("initialize", params);
+        notify("initialized", json::object());
+        return r;
+    }
+    void open(const std::string& uri, const std::string& text, int version = 1) {
+        notify("textDocument/didOpen",
+               {{"textDocument", {{"uri", uri}, {"languageId", "osp"}, {"version", version}, {"text", text}}}});
+    }
+    void change(const std::string& uri, int version, json changes) {
+        notify("textDocument/didChange",
+               {{"textDocument", {{"uri", uri}, {"version", version}}}, {"contentChanges", std::move(changes)}});
+    }
+
+private:
+    PipeSource in_;
+    MemorySink out_;
+    Server server_;
+    std::thread thread_;
+    std::atomic<int> exit_code_{-1};
+    int next_id_ = 1;
+    std::deque<json> backlog_;
+    std::vector<json> seen_;
+};
+
+json pos(uint32_t line, uint32_t character) { return {{"line", line}, {"character", character}}; }
+json range(uint32_t l1, uint32_t c1, uint32_t l2, uint32_t c2) {
+    return {{"start", pos(l1, c1)}, {"end", pos(l2, c2)}};
+}
+json td(const std::string& uri) { return {{"uri", uri}}; }
+
+const json* find_code(const json& diags, std::string_view code) {
+    for (const auto& d : diags)
+        if (d.value("code", "") == code) return &d;
+    return nullptr;
+}
+
+// Column of `needle` in `line`, in the units of the encoding.
+uint32_t col(const std::string& line, const std::string& needle, bool utf8) {
+    const std::size_t at = line.find(needle);
+    REQUIRE(at != std::string::npos);
+    if (utf8) return static_cast<uint32_t>(at);
+    return count_columns(std::string_view(line).substr(0, at)).utf16;
+}
+
+const std::string kUri = "untitled:M52CALL.MIN";
+
+const std::string kProgram =
+    "O3106\n"                                                         // 0
+    "N1 (T31 BIG BACK C'BORE BAR)\n"                                  // 1
+    "G15 H1\n"                                                        // 2
+    "T31 M6\n"                                                        // 3
+    "G0 G90 X0 Y0\n"                                                  // 4
+    "G56 Z50. H31\n"                                                  // 5
+    "S600 M3\n"                                                       // 6
+    "M8\n"                                                            // 7
+    "CALL OZAGR PX=70. PY=0 PR=5. PZ=-29. PI=6. PF=50 PS=600\n"       // 8
+    "CALL OZAGR PX=-70. PY=0 PR=5. PZ=-29. PI=6. PF=50 PS=600 M52\n"  // 9
+    "M9\n"                                                            // 10
+    "M5\n"                                                            // 11
+    "G30 P1\n"                                                        // 12
+    "M30\n";                                                          // 13
+
+}  // namespace
+
+TEST_CASE("lsp: lifecycle: -32002 before initialize, shutdown, exit code 0") {
+    Session s;
+    json early = s.request("textDocument/hover", {{"textDocument", td(kUri)}, {"position", pos(0, 0)}});
+    CHECK(early["error"]["code"] == error::kServerNotInitialized);
+    // A notification before initialize is dropped: no diagnostics come for it.
+    s.open(kUri, kProgram);
+    json init = s.initialize(true);
+    CHECK(init["capabilities"]["positionEncoding"] == "utf-8");
+    CHECK(init["capabilities"]["textDocumentSync"]["change"] == 2);
+    CHECK(init["capabilities"]["hoverProvider"] == true);
+    CHECK(init["serverInfo"]["name"] == "osplint");
+    CHECK(s.request("initialize", {{"capabilities", json::object()}})["error"]["code"] == error::kInvalidRequest);
+    // The document opened before initialize does not exist.
+    CHECK(s.result("textDocument/documentSymbol", {{"textDocument", td(kUri)}}) == json::array());
+    CHECK(s.result("shutdown", nullptr).is_null());
+    CHECK(s.request("textDocument/hover", {{"textDocument", td(kUri)}, {"position", pos(0, 0)}})["error"]["code"] ==
+          error::kInvalidRequest);
+    s.notify("exit", nullptr);
+    CHECK(s.finished_within(kTimeoutMs));
+    CHECK(s.exit_code() == 0);
+    for (const auto& m : s.seen()) CHECK(m.value("method", "") != "textDocument/publishDiagnostics");
+}
+
+TEST_CASE("lsp: lifecycle: exit without shutdown is 1, end of input without exit is 1") {
+    {
+        Session s;
+        s.initialize();
+        s.notify("exit", nullptr);
+        CHECK(s.finished_within(kTimeoutMs));
+        CHECK(s.exit_code() == 1);
+    }
+    {
+        Session s;
+        s.notify("exit", nullptr);  // exit is honoured even before initialize
+        CHECK(s.finished_within(kTimeoutMs));
+        CHECK(s.exit_code() == 1);
+    }
+    {
+        Session s;
+        s.initialize();
+        CHECK(s.finish() == 1);
+    }
+}
+
+TEST_CASE("lsp: encoding: utf-16 when the client does not offer utf-8") {
+    Session s;
+    CHECK(s.initialize(false)["capabilities"]["positionEncoding"] == "utf-16");
+}
+
+TEST_CASE("lsp: unknown methods: -32601 for requests, notifications ignored") {
+    Session s;
+    s.initialize();
+    s.notify("osplint/unknownNotification", {{"x", 1}});
+    s.notify("$/setTrace", {{"value", "off"}});
+    json r = s.request("workspace/executeCommand", {{"command", "x"}});
+    CHECK(r["error"]["code"] == error::kMethodNotFound);
+    CHECK(s.backlog_size() == 0);  // nothing was sent for the notifications
+}
+
+TEST_CASE("lsp: malformed input is answered or skipped, never fatal") {
+    Session s;
+    s.initialize();
+    s.raw("Content-Length: 5\r\n\r\n{bad}");
+    json e1 = s.wait([](const json& m) { return m.contains("error"); });
+    CHECK(e1["error"]["code"] == error::kParseError);
+    CHECK(e1["id"].is_null());
+    s.raw("Content-Length: twelve\r\n\r\n{\"jsonrpc\":\"2.0\"}");
+    CHECK(s.wait([](const json& m) { return m.contains("error"); })["error"]["code"] == error::kParseError);
+    // An absurd length is refused at once; the next request is answered.
+    s.raw("Content-Length: 1000000000000\r\n\r\n");
+    CHECK(s.wait([](const json& m) { return m.contains("error"); })["error"]["code"] == error::kParseError);
+    s.raw("Content-Length: 70000000\r\n\r\n");
+    CHECK(s.wait([](const json& m) { return m.contains("error"); })["error"]["code"] == error::kParseError);
+    // What follows a refused header is skipped up to the next message, which is answered.
+    CHECK(s.result("textDocument/documentSymbol", {{"textDocument", td(kUri)}}) == json::array());
+    s.raw("this is not a header\r\n\r\n");
+    CHECK(s.wait([](const json& m) { return m.contains("error"); })["error"]["code"] == error::kParseError);
+    s.send({{"id", 99}, {"method", "shutdown"}});  // no "jsonrpc"
+    json inv = s.wait([](const json& m) { return m.contains("error"); });
+    CHECK(inv["error"]["code"] == error::kInvalidRequest);
+    CHECK(inv["id"] == 99);
+    // Bad params: -32602, the server goes on.
+    CHECK(s.request("textDocument/hover", {{"textDocument", 3}})["error"]["code"] == error::kInvalidParams);
+    s.notify("textDocument/didOpen", {{"textDocument", {{"uri", 5}}}});
+    CHECK(s.result("shutdown", nullptr).is_null());
+}
+
+TEST_CASE("lsp: 1,000 random byte strings leave the server alive") {
+    Session s;
+    s.initialize();
+    std::mt19937 rng(7);
+    int framed_errors = 0;
+    for (int i = 0; i < 1000; ++i) {
+        std::string junk(1 + rng() % 200, '\0');
+        for (auto& c : junk) c = static_cast<char>(rng() % 256);
+        if (i % 2 == 0) {
+            s.raw(frame(junk));  // framed: the body is junk
+            ++framed_errors;
+        } else {
+            s.raw(junk);  // unframed: junk between messages
+            s.raw("\r\n\r\n");
+        }
+    }
+    // Every framed junk body was answered with an error (parse error or invalid request).
+    int errors = 0;
+    json r = s.wait([&](const json& m) {
+        if (m.contains("error") && m["id"].is_null()) ++errors;
+        return errors >= framed_errors;
+    });
+    CHECK(errors >= framed_errors);
+    json after = s.request("shutdown", nullptr);
+    CHECK(after.contains("result"));
+    s.notify("exit", nullptr);
+    CHECK(s.finished_within(kTimeoutMs));
+    CHECK(s.exit_code() == 0);
+}
+
+TEST_CASE("lsp: diagnostics: code, link, severity, notes, fixes in data, version; didClose clears") {
+    Session s;
+    s.initialize();
+    s.open(kUri, kProgram, 3);
+    json p = s.diagnostics(kUri, 3);
+    CHECK(p["version"] == 3);
+    const json* d = find_code(p["diagnostics"], "OSP104");
+    REQUIRE(d);
+    CHECK((*d)["source"] == "osplint");
+    CHECK((*d)["severity"] == 1);
+    CHECK((*d)["codeDescription"]["href"] == "https://github.com/osplint/osplint/blob/main/docs/rules/OSP104.md");
+    const std::string line9 = "CALL OZAGR PX=-70. PY=0 PR=5. PZ=-29. PI=6. PF=50 PS=600 M52";
+    CHECK((*d)["range"] == range(9, col(line9, "M52", true), 9, col(line9, "M52", true) + 3));
+    CHECK((*d)["message"].get<std::string>().find("PM=52") != std::string::npos);
+    REQUIRE((*d)["data"]["fixes"].size() >= 1);
+    CHECK((*d)["data"]["version"] == 3);
+    CHECK((*d)["data"]["fixes"][0]["edits"][0]["newText"] == "PM=52");
+
+    // Notes with a range become relatedInformation (OSP003: duplicate sequence name).
+    const std::string uri2 = "untitled:DUP.MIN";
+    s.open(uri2, "O1\nN10 G0 X0\nN10 G0 X1\nM30\n");
+    json p2 = s.diagnostics(uri2);
+    const json* dup = find_code(p2["diagnostics"], "OSP003");
+    REQUIRE(dup);
+    REQUIRE(dup->contains("relatedInformation"));
+    CHECK((*dup)["relatedInformation"][0]["location"]["uri"] == uri2);
+    CHECK((*dup)["relatedInformation"][0]["location"]["range"]["start"]["line"] == 1);
+
+    s.notify("textDocument/didClose", {{"textDocument", td(kUri)}});
+    json cleared = s.diagnostics(kUri);
+    CHECK(cleared["diagnostics"].empty());
+}
+
+TEST_CASE("lsp: incremental edits with non-ASCII comments, in both encodings") {
+    for (bool utf8 : {true, false}) {
+        CAPTURE(utf8);
+        Session s;
+        s.initialize(utf8);
+        const std::string comment =
+            "(\xE8\xA3\x8F\xE3\x82\xB6\xE3\x82\xB0\xE3\x83\xAA \xF0\x9F\x94\xA7)";  // (裏ザグリ 🔧)
+        const std::string line = "CALL OZAGR " + comment + " PX=0 PY=0 PR=5. PZ=-29. PI=6.";
+        const std::string text = "O1\nG0 G90 X0 Y0\n" + line + "\nM30\n";
+        s.open(kUri, text, 1);
+        CHECK(s.diagnostics(kUri, 1)["diagnostics"].empty());
+
+        // Append M52 at the end of the CALL line: a position after the emoji.
+        const uint32_t end = col(line + "|", "|", utf8);
+        s.change(kUri, 2, json::array({{{"range", range(2, end, 2, end)}, {"text", " M52"}}}));
+        json p = s.diagnostics(kUri, 2);
+        const json* d = find_code(p["diagnostics"], "OSP104");
+        REQUIRE(d);
+        const std::string line2 = line + " M52";
+        CHECK((*d)["range"] == range(2, col(line2, "M52", utf8), 2, col(line2, "M52", utf8) + 3));
+
+        // The fix from the diagnostic's data, applied as the client would: the
+        // edit's range is in the negotiated encoding.
+        json fix = (*d)["data"]["fixes"][0]["edits"][0];
+        s.change(kUri, 3, json::array({{{"range", fix["range"]}, {"text", fix["newText"]}}}));
+        CHECK(s.diagnostics(kUri, 3)["diagnostics"].empty());
+
+        // Several changes in one event, applied in order: type inside the
+        // comment (after the emoji), then replace PR=5. by PR=X (OSP103? no: a
+        // variable), then a full replacement.
+        const std::string line3 = line + " PM=52";
+        const uint32_t after_emoji = col(line3, ")", utf8);
+        s.change(kUri, 4,
+                 json::array({
+                     {{"range", range(2, after_emoji, 2, after_emoji)}, {"text", " \xC3\xA9"}},
+                     {{"range", range(2, 0, 2, 0)}, {"text", "N5 "}},
+                 }));
+        json p4 = s.diagnostics(kUri, 4);
+        CHECK(p4["diagnostics"].empty());
+        json sym = s.result("textDocument/documentSymbol", {{"textDocument", td(kUri)}});
+        REQUIRE(sym.size() == 1);
+        REQUIRE(sym[0]["children"].size() == 1);
+        CHECK(sym[0]["children"][0]["name"] == "N5");
+        // Hover on PM (after the edits) still resolves the right word.
+        const std::string line4 =
+            "N5 CALL OZAGR (\xE8\xA3\x8F\xE3\x82\xB6\xE3\x82\xB0\xE3\x83\xAA \xF0\x9F\x94\xA7 \xC3\xA9)"
+            " PX=0 PY=0 PR=5. PZ=-29. PI=6. PM=52";
+        json h = s.result("textDocument/hover",
+                          {{"textDocument", td(kUri)}, {"position", pos(2, col(line4, "PR=", utf8) + 1)}});
+        REQUIRE(h.is_object());
+        CHECK(h["contents"]["value"].get<std::string>().find("**PR**") != std::string::npos);
+        CHECK(h["range"] == range(2, col(line4, "PR=", utf8), 2, col(line4, "PR=", utf8) + 5));
+
+        s.change(kUri, 5, json::array({{{"text", "O1\nCALL OZAGR PR=5 PZ=-20 PI=12 M52\nM30\n"}}}));
+        CHECK(find_code(s.diagnostics(kUri, 5)["diagnostics"], "OSP104"));
+    }
+}
+
+TEST_CASE("lsp: results for outdated versions are dropped") {
+    Session s;
+    s.initialize();
+    s.open(kUri, kProgram, 1);
+    s.diagnostics(kUri, 1);
+    for (int v = 2; v <= 30; ++v)
+        s.change(kUri, v, json::array({{{"range", range(9, 0, 9, 0)}, {"text", v % 2 ? "" : " "}}}));
+    json last = s.diagnostics(kUri, 30);
+    CHECK(last["version"] == 30);
+    int64_t prev = 0;
+    for (const auto& m : s.seen()) {
+        if (m.value("method", "") != "textDocument/publishDiagnostics") continue;
+        const int64_t v = m["params"]["version"];
+        CHECK(v >= prev);
+        prev = v;
+    }
+}
+
+TEST_CASE("lsp: hover: macro card, argument with plane axis, G/M codes with modal state, rule docs") {
+    // Small files keep the modal state from the first analysis; large ones
+    // compute it on the first hover. Both paths answer the same.
+    ServerOptions options = Session::quiet();
+    SUBCASE("states kept with the diagnostics") {}
+    SUBCASE("states computed on demand") { options.keep_states_below = 0; }
+    Session s(options);
+    s.initialize();
+    const std::string text =
+        "O1\n"                                                                     // 0
+        "G0 G90 X0 Y0\n"                                                           // 1
+        "CALL OZAGR PR=5 PZ=-20 PI=12 (osplint: disable=OSP104 -- checked) M52\n"  // 2
+        "G18\n"                                                                    // 3
+        "CALL OZAGR PR=5 PZ=-20 PI=12\n"                                           // 4
+        "G17 G99\n"                                                                // 5
+        "G81 Z-3. R3. F100\n"                                                      // 6
+        "G80\n"                                                                    // 7
+        "G114 R3. Z-10. F100\n"                                                    // 8
+        "G80\n"                                                                    // 9
+        "M30\n";                                                                   // 10
+    s.open(kUri, text);
+    s.diagnostics(kUri, 1);
+    auto hover = [&](uint32_t line, uint32_t character) {
+        return s.result("textDocument/hover", {{"textDocument", td(kUri)}, {"position", pos(line, character)}});
+    };
+    auto value = [](const json& h) {
+        return h.is_object() ? h["contents"]["value"].get<std::string>() : std::string();
+    };
+
+    json card = hover(2, 7);  // OZAGR
+    CHECK(card["contents"]["kind"] == "markdown");
+    CHECK(value(card).find("OZAGR") != std::string::npos);
+    CHECK(value(card).find("Back counterboring with the BIG back-counterbore bar") != std::string::npos);
+    CHECK(card["range"] == range(2, 5, 2, 10));
+
+    std::string pr17 = value(hover(2, 12));  // PR=5 in G17
+    CHECK(pr17.find("**PR**") != std::string::npos);
+    CHECK(pr17.find("Axis: **Z** (plane G17") != std::string::npos);
+    CHECK(pr17.find("If omitted: required") != std::string::npos);
+    CHECK(pr17.find("Value here: `5`") != std::string::npos);
+    std::string pr18 = value(hover(4, 12));  // PR=5 in G18
+    CHECK(pr18.find("Axis: **Y** (plane G18") != std::string::npos);
+
+    std::string rule = value(hover(2, 51));  // OSP104 inside the directive
+    CHECK(rule.find("OSP104") != std::string::npos);
+    CHECK(rule.find("m52-on-call-line") != std::string::npos);
+
+    std::string g81 = value(hover(6, 1));
+    CHECK(g81.find("**G81** — Fixed cycle: drill cycle") != std::string::npos);
+    CHECK(g81.find("| plane | G17 | G17 |") != std::string::npos);
+    CHECK(g81.find("| fixed cycle | none | G81 |") != std::string::npos);
+    CHECK(g81.find("| cycle return | G99 | G99 |") != std::string::npos);
+    std::string g18 = value(hover(3, 1));
+    CHECK(g18.find("| plane | G17 | G18 |") != std::string::npos);
+    std::string m52 = value(hover(2, 68));
+    CHECK(m52.find("**M52**") != std::string::npos);
+    CHECK(m52.find("upper limit") != std::string::npos);
+    std::string m30 = value(hover(10, 1));
+    CHECK(m30.find("Program end") != std::string::npos);
+
+    std::string g114 = value(hover(8, 2));  // a registered G-code macro: its card
+    CHECK(g114.find("OG84L") != std::string::npos);
+    CHECK(g114.find("Modal state") != std::string::npos);
+
+    CHECK(value(hover(1, 4)).find("Absolute programming") != std::string::npos);  // G90
+    CHECK(hover(1, 8).is_null());                                                 // X0: an axis word, nothing to say
+    CHECK(hover(0, 0).is_null());                                                 // the program name
+}
+
+TEST_CASE("lsp: completion: macro names after CALL/MODIN, then missing arguments, required first") {
+    Session s;
+    s.initialize();
+    const std::string text = "O1\nCALL \nMODIN \nCALL OZAGR PR=5 \nCALL OZAGR PR=5 P\nM30\n";
+    s.open(kUri, text);
+    auto items = [&](uint32_t line, uint32_t character) {
+        json r = s.result("textDocument/completion", {{"textDocument", td(kUri)}, {"position", pos(line, character)}});
+        return r.is_object() ? r["items"] : r;
+    };
+    auto labels = [](const json& list) {
+        std::vector<std::string> out;
+        for (const auto& i : list) out.push_back(i["label"]);
+        return out;
+    };
+    json call = items(1, 5);
+    auto call_labels = labels(call);
+    CHECK(std::find(call_labels.begin(), call_labels.end(), "OZAGR") != call_labels.end());
+    CHECK(std::find(call_labels.begin(), call_labels.end(), "OG87C") == call_labels.end());  // MODIN only
+    for (const auto& i : call)
+        if (i["label"] == "OZAGR") CHECK(i["detail"] == "Back counterboring with the BIG back-counterbore bar");
+    auto modin_labels = labels(items(2, 6));
+    CHECK(std::find(modin_labels.begin(), modin_labels.end(), "OG87C") != modin_labels.end());
+    CHECK(std::find(modin_labels.begin(), modin_labels.end(), "OZAGR") == modin_labels.end());
+
+    json args = items(3, 16);
+    auto arg_labels = labels(args);
+    CHECK(std::find(arg_labels.begin(), arg_labels.end(), "PR") == arg_labels.end());  // given
+    REQUIRE(!args.empty());
+    std::sort(args.begin(), args.end(), [](const json& a, const json& b) { return a["sortText"] < b["sortText"]; });
+    // Required ones first: PZ and PI, then the optional ones.
+    CHECK(args[0]["label"] == "PZ");
+    CHECK(args[1]["label"] == "PI");
+    CHECK(args[0]["insertText"] == "PZ=");
+    CHECK(args[0]["detail"].get<std::string>().find("required") != std::string::npos);
+    // A partly typed argument is still offered.
+    auto partial = labels(items(4, 17));
+    CHECK(std::find(partial.begin(), partial.end(), "PZ") != partial.end());
+    CHECK(items(0, 1).empty());  // not a CALL line
+}
+
+TEST_CASE("lsp: code actions: the fix from data, and a suppression comment") {
+    Session s;
+    s.initialize(false);
+    s.open(kUri, kProgram, 7);
+    json p = s.diagnostics(kUri, 7);
+    const json* d = find_code(p["diagnostics"], "OSP104");
+    REQUIRE(d);
+    json actions = s.result(
+        "textDocument/codeAction",
+        {{"textDocument", td(kUri)}, {"range", (*d)["range"]}, {"context", {{"diagnostics", json::array({*d})}}}});
+    REQUIRE(actions.size() == 2);
+    CHECK(actions[0]["title"] == "Replace M52 by PM=52");
+    CHECK(actions[0]["kind"] == "quickfix");
+    CHECK(actions[0]["isPreferred"] == true);
+    json edit = actions[0]["edit"]["changes"][kUri][0];
+    CHECK(edit["newText"] == "PM=52");
+    CHECK(edit["range"] == (*d)["range"]);
+    CHECK(actions[1]["title"] == "Suppress OSP104 on this block");
+    const std::string line9 = "CALL OZAGR PX=-70. PY=0 PR=5. PZ=-29. PI=6. PF=50 PS=600 M52";
+    json sup = actions[1]["edit"]["changes"][kUri][0];
+    CHECK(sup["range"] == range(9, line9.size(), 9, line9.size()));
+    CHECK(sup["newText"] == " (osplint: disable=OSP104 -- reason)");
+
+    // Applying the suppression silences the finding.
+    s.change(kUri, 8, json::array({{{"range", sup["range"]}, {"text", sup["newText"]}}}));
+    CHECK_FALSE(find_code(s.diagnostics(kUri, 8)["diagnostics"], "OSP104"));
+    // Data from an older version offers no fix (the text moved on), only the suppression.
+    json stale = s.result(
+        "textDocument/codeAction",
+        {{"textDocument", td(kUri)}, {"range", (*d)["range"]}, {"context", {{"diagnostics", json::array({*d})}}}});
+    REQUIRE(stale.size() == 1);
+    CHECK(stale[0]["title"] == "Suppress OSP104 on this block");
+    // What the client sends is never echoed back beyond the numbers and strings used.
+    json odd = *d;
+    odd["data"]["version"] = 8;
+    odd["data"]["fixes"][0]["edits"][0]["range"]["start"]["line"] = "nine";
+    odd["code"] = "OSP104) (x";
+    odd["relatedInformation"] = json::array({json::object({{"deep", json::array({json::array()})}})});
+    json sanitized = s.result("textDocument/codeAction", {{"textDocument", td(kUri)},
+                                                          {"range", (*d)["range"]},
+                                                          {"context", {{"diagnostics", json::array({odd})}}}});
+    CHECK(sanitized.empty());
+    json only = s.result("textDocument/codeAction",
+                         {{"textDocument", td(kUri)},
+                          {"range", (*d)["range"]},
+                          {"context", {{"diagnostics", json::array({*d})}, {"only", {"refactor"}}}}});
+    CHECK(only.empty());
+}
+
+TEST_CASE("lsp: document symbols: programs and their sequence names") {
+    Session s;
+    s.initialize();
+    s.open(kUri, "(HEADER)\nOMAIN\nN1 G0 X0\nNEND M30\nOSUB1\nNA1 G1 X1\nRTS\n");
+    json sym = s.result("textDocument/documentSymbol", {{"textDocument", td(kUri)}});
+    REQUIRE(sym.size() == 2);
+    CHECK(sym[0]["name"] == "OMAIN");
+    CHECK(sym[0]["kind"] == 12);
+    REQUIRE(sym[0]["children"].size() == 2);
+    CHECK(sym[0]["children"][0]["name"] == "N1");
+    CHECK(sym[0]["children"][1]["name"] == "NEND");
+    CHECK(sym[0]["children"][1]["selectionRange"] == range(3, 0, 3, 4));
+    CHECK(sym[1]["name"] == "OSUB1");
+    CHECK(sym[1]["children"][0]["name"] == "NA1");
+    CHECK(sym[1]["selectionRange"] == range(4, 0, 4, 5));
+}
+
+TEST_CASE("lsp: configuration: nearest osplint.toml, reloaded when it changes, broken file shown") {
+    const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "sub");
+    auto write = [&](const std::string& content) {
+        std::ofstream(dir / "osplint.toml", std::ios::binary | std::ios::trunc) << content;
+    };
+    write("[rules]\nOSP104 = \"warning\"\n");
+    const std::string uri = path_to_uri((dir / "sub" / "PART.MIN").string());
+    {
+        Session s;
+        s.initialize();
+        s.open(uri, kProgram, 1);
+        json l1 = s.diagnostics(uri, 1)["diagnostics"];
+        const json* d = find_code(l1, "OSP104");
+        REQUIRE(d);
+        CHECK((*d)["severity"] == 2);
+
+        // Changed on disk (size and contents): picked up before the next analysis.
+        write("[rules]\nOSP104 = \"info\"   # changed\n");
+        s.notify("workspace/didChangeWatchedFiles",
+                 {{"changes", json::array({{{"uri", path_to_uri((dir / "osplint.toml").string())}, {"type", 2}}})}});
+        json l2 = s.diagnostics(uri, 1)["diagnostics"];
+        const json* d2 = find_code(l2, "OSP104");
+        REQUIRE(d2);
+        CHECK((*d2)["severity"] == 3);
+
+        // Broken: an error message, and the defaults.
+        write("[rules\nOSP104 = \n");
+        s.notify("textDocument/didSave", {{"textDocument", td(uri)}});
+        json msg = s.notification("window/showMessage");
+        CHECK(msg["params"]["type"] == 1);
+        CHECK(msg["params"]["message"].get<std::string>().find("osplint.toml") != std::string::npos);
+        json l3 = s.diagnostics(uri, 1)["diagnostics"];
+        const json* d3 = find_code(l3, "OSP104");
+        REQUIRE(d3);
+        CHECK((*d3)["severity"] == 1);
+
+        // Fixed again: an edit is enough (the modification time is checked).
+        write("[rules]\nOSP104 = \"off\"\n");
+        s.change(uri, 2, json::array({{{"range", range(13, 3, 13, 3)}, {"text", " "}}}));
+        CHECK_FALSE(find_code(s.diagnostics(uri, 2)["diagnostics"], "OSP104"));
+    }
+    fs::remove_all(dir);
+}
+
+TEST_CASE("lsp: subprograms beside the document are known (no OSP005 for them)") {
+    const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-sub-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "SHOP.SSB") << "OSUBA\nG0 X0\nRTS\n";
+    const std::string uri = path_to_uri((dir / "MAIN.MIN").string());
+    Session s;
+    s.initialize();
+    s.open(uri, "O1\nCALL OSUBA\nCALL OSUBB\nM30\n");
+    json diags = s.diagnostics(uri, 1)["diagnostics"];
+    int unknown = 0;
+    for (const auto& d : diags)
+        if (d["code"] == "OSP005") {
+            ++unknown;
+            CHECK(d["message"].get<std::string>().find("OSUBB") != std::string::npos);
+        }
+    CHECK(unknown == 1);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("lsp: $/cancelRequest: a waiting request is answered or cancelled, never both, never lost") {
+    Session s;
+    s.initialize();
+    s.open(kUri, kProgram);
+    // Both frames in one write: the request may still be waiting when the cancel arrives.
+    const json hover = make_request(500, "textDocument/hover", {{"textDocument", td(kUri)}, {"position", pos(8, 7)}});
+    const json cancel = make_notification("$/cancelRequest", {{"id", 500}});
+    s.raw(frame(hover.dump()) + frame(cancel.dump()));
+    json r = s.response(500);
+    if (r.contains("error"))
+        CHECK(r["error"]["code"] == error::kRequestCancelled);
+    else
+        CHECK(r["result"]["contents"]["value"].get<std::string>().find("OZAGR") != std::string::npos);
+    s.notify("$/cancelRequest", {{"id", 12345}});  // unknown: ignored
+    CHECK(s.result("shutdown", nullptr).is_null());
+    for (const auto& m : s.seen()) CHECK_FALSE((m.contains("id") && m["id"] == 12345));
+}
