@@ -35,6 +35,19 @@ SourceRange RuleContext::resolve(ByteRange r) const {
     return out;
 }
 
+std::optional<double> word_value(const Block& b, const Word& w, const ModalState& s) {
+    if (w.number) return w.number;
+    if (w.value != kNoExpr) return evaluate(b, w.value, s);
+    return std::nullopt;
+}
+
+std::optional<int> code_of(const Word& w) {
+    if (!w.number) return std::nullopt;
+    double v = *w.number;
+    if (v < 0 || v > 100000 || v != std::floor(v)) return std::nullopt;
+    return static_cast<int>(v);
+}
+
 namespace {
 
 // A fixed cycle of the catalog, or one of the synchronized tapping cycles.
@@ -51,20 +64,6 @@ bool is_cycle_macro(const MacroSpec& spec) {
 bool is_axis_address(std::string_view a) {
     return a.size() == 1 && (a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z' || a[0] == 'A' || a[0] == 'B' ||
                              a[0] == 'C' || a[0] == 'U' || a[0] == 'V' || a[0] == 'W');
-}
-
-std::optional<double> word_value(const Block& b, const Word& w, const ModalState& s) {
-    if (w.number) return w.number;
-    if (w.value != kNoExpr) return evaluate(b, w.value, s);
-    return std::nullopt;
-}
-
-// Integer code of a G/M word when it is a plain literal (G00 -> 0, M52 -> 52).
-std::optional<int> code_of(const Word& w) {
-    if (!w.number) return std::nullopt;
-    double v = *w.number;
-    if (v < 0 || v > 100000 || v != std::floor(v)) return std::nullopt;
-    return static_cast<int>(v);
 }
 
 std::vector<int> codes(const Block& b, char address) {

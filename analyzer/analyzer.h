@@ -54,6 +54,11 @@ void apply_block(const Block& block, const MacroCall* call, const Catalog& catal
 // Resolves the macro or subprogram a block invokes, with evaluated arguments.
 std::optional<MacroCall> resolve_call(const Block& block, const ModalState& before, const Catalog& catalog);
 
+// The value of a word in `state`: its literal, or its expression when it can be evaluated.
+std::optional<double> word_value(const Block& block, const Word& word, const ModalState& state);
+// Integer code of a G/M word when it is a plain literal (G00 -> 0, M52 -> 52).
+std::optional<int> code_of(const Word& word);
+
 // Reads the program names a file defines without parsing it fully.
 void collect_program_names(std::string_view text, ProgramNames& out);
 

@@ -709,22 +709,6 @@ std::string omitted_text(const ArgSpec& a) {
     return "?";
 }
 
-std::string values_text(const ArgSpec& a) {
-    std::vector<std::string> parts;
-    if (!a.allowed.empty()) {
-        std::string s = "one of ";
-        for (std::size_t i = 0; i < a.allowed.size(); ++i) s += (i ? ", " : "") + format_number(a.allowed[i]);
-        parts.push_back(s);
-    }
-    if (a.sign != ArgSign::Any) parts.emplace_back(to_string(a.sign));
-    if (a.negative_allowed) parts.emplace_back("negative allowed");
-    if (a.always_incremental) parts.emplace_back("always incremental");
-    if (a.g91_only) parts.emplace_back("G91 only");
-    if (parts.empty()) return "any";
-    std::string s;
-    for (const auto& p : parts) s += (s.empty() ? "" : "; ") + p;
-    return s;
-}
 
 std::string format_status_text(const MacroSpec& spec, const ArgSpec& a) {
     // One word when every documented form agrees, else per form.
@@ -1237,7 +1221,7 @@ std::string Catalog::render_card(const MacroSpec& spec, bool md) const {
             std::string meaning = a.meaning;
             if (!a.note.empty()) meaning += " (" + a.note + ")";
             if (!a.source.empty()) meaning += " [" + a.source + "]";
-            rows.push_back({name, omitted_text(a), values_text(a), axis_cell(a.axes[0]), axis_cell(a.axes[1]),
+            rows.push_back({name, omitted_text(a), [&] { std::string v = constraint_text(a); return v.empty() ? std::string("any") : v; }(), axis_cell(a.axes[0]), axis_cell(a.axes[1]),
                             axis_cell(a.axes[2]), format_status_text(spec, a), meaning});
         }
         card.table({"Arg", "If omitted", "Values", "G17", "G18", "G19", "Format", "Meaning"}, rows, {0});
@@ -1332,6 +1316,32 @@ std::string Catalog::render_card(const MacroSpec& spec, bool md) const {
         }
     }
     return card.take();
+}
+
+std::string constraint_text(const ArgSpec& a) {
+    std::vector<std::string> parts;
+    if (!a.allowed.empty()) {
+        std::string s = "one of ";
+        for (std::size_t i = 0; i < a.allowed.size(); ++i) s += (i ? ", " : "") + format_number(a.allowed[i]);
+        parts.push_back(s);
+    }
+    if (a.sign != ArgSign::Any) parts.emplace_back(to_string(a.sign));
+    if (a.negative_allowed) parts.emplace_back("negative allowed");
+    if (a.always_incremental) parts.emplace_back("always incremental");
+    if (a.g91_only) parts.emplace_back("G91 only");
+    std::string s;
+    for (const auto& p : parts) s += (s.empty() ? "" : "; ") + p;
+    return s;
+}
+
+bool relation_holds(double left, std::string_view op, double right) {
+    if (op == ">") return left > right;
+    if (op == ">=") return left >= right;
+    if (op == "<") return left < right;
+    if (op == "<=") return left <= right;
+    if (op == "==") return left == right;
+    if (op == "!=") return left != right;
+    return true;
 }
 
 }  // namespace osplint

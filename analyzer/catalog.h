@@ -295,6 +295,11 @@ std::string_view to_string(M52Mode v);
 std::string_view to_string(M53Mode v);
 std::string_view to_string(RequiredScope v);
 
+// The value constraints of an argument in words ("one of 2, 3; positive"), or "" when there are none.
+std::string constraint_text(const ArgSpec& a);
+// Whether `left op right` holds for a Relation's operator (> >= < <= == !=).
+bool relation_holds(double left, std::string_view op, double right);
+
 // The expressions of `ActionStep::target`, `ActionStep::by` and `Relation`:
 // a sum of terms, each a number or an argument name, joined by + and -.
 struct ExprTerm {

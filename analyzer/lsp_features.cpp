@@ -278,21 +278,6 @@ std::string omitted_text(const ArgSpec& a) {
     return "?";
 }
 
-std::string values_text(const ArgSpec& a) {
-    std::vector<std::string> parts;
-    if (!a.allowed.empty()) {
-        std::string s = "one of ";
-        for (std::size_t i = 0; i < a.allowed.size(); ++i) s += (i ? ", " : "") + format_number(a.allowed[i]);
-        parts.push_back(s);
-    }
-    if (a.sign != ArgSign::Any) parts.emplace_back(to_string(a.sign));
-    if (a.negative_allowed) parts.emplace_back("negative allowed");
-    if (a.always_incremental) parts.emplace_back("always incremental");
-    if (a.g91_only) parts.emplace_back("G91 only");
-    std::string s;
-    for (const auto& p : parts) s += (s.empty() ? "" : "; ") + p;
-    return s;
-}
 
 int plane_number(const ModalState* s) {
     if (!s || !s->plane.known) return 0;
@@ -356,7 +341,7 @@ std::string argument_doc(const MacroSpec& spec, const ArgSpec& a, int plane, con
     std::string role = role_text(a.role);
     if (std::string u = unit_text(a.role, state); !u.empty()) role += ", " + u;
     out += "- Role: " + role + "\n";
-    if (std::string v = values_text(a); !v.empty()) out += "- Values: " + v + "\n";
+    if (std::string v = constraint_text(a); !v.empty()) out += "- Values: " + v + "\n";
     const bool has_axis = a.axes[0] || a.axes[1] || a.axes[2];
     if (has_axis) {
         if (plane) {

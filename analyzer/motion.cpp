@@ -38,19 +38,6 @@ bool contains_ci(std::string_view hay, std::string_view needle) {
     return upper(hay).find(upper(needle)) != std::string::npos;
 }
 
-std::optional<double> word_value(const Block& b, const Word& w, const ModalState& s) {
-    if (w.number) return w.number;
-    if (w.value != kNoExpr) return evaluate(b, w.value, s);
-    return std::nullopt;
-}
-
-std::optional<int> code_of(const Word& w) {
-    if (!w.number) return std::nullopt;
-    double v = *w.number;
-    if (v < 0 || v > 100000 || v != std::floor(v)) return std::nullopt;
-    return static_cast<int>(v);
-}
-
 bool has_code(const Block& b, char address, int code) {
     for (const auto& w : b.words)
         if (w.address.size() == 1 && w.address[0] == address)

@@ -32,15 +32,6 @@ std::optional<double> eval_terms(const std::vector<ExprTerm>& terms, const Macro
     return sum;
 }
 
-bool holds(double l, const std::string& op, double r) {
-    if (op == ">") return l > r;
-    if (op == ">=") return l >= r;
-    if (op == "<") return l < r;
-    if (op == "<=") return l <= r;
-    if (op == "==") return l == r;
-    if (op == "!=") return l != r;
-    return true;
-}
 
 // Relations between cycle-axis coordinates are the order checks of OSP302.
 bool is_order_relation(const Relation& r, const MacroSpec& spec) {
@@ -102,7 +93,7 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
         if (!lt || !rt) continue;
         auto l = eval_terms(*lt, spec, lookup);
         auto rv = eval_terms(*rt, spec, lookup);
-        if (!l || !rv || holds(*l, r.op, *rv)) continue;
+        if (!l || !rv || relation_holds(*l, r.op, *rv)) continue;
         ByteRange where = fallback;
         for (const auto& t : *lt)
             if (!t.name.empty())

@@ -70,15 +70,6 @@ Side evaluate_side(const std::string& text, const std::function<Value(const std:
     return s;
 }
 
-bool holds(double l, const std::string& op, double r) {
-    if (op == ">") return l > r;
-    if (op == ">=") return l >= r;
-    if (op == "<") return l < r;
-    if (op == "<=") return l <= r;
-    if (op == "==") return l == r;
-    if (op == "!=") return l != r;
-    return true;
-}
 
 // A side made only of cycle-axis coordinates and numbers (PR, PZ+1): a point on the axis.
 bool is_point(const std::string& text, const MacroSpec& spec) {
@@ -161,7 +152,7 @@ public:
                 if (!uses_current) continue;
                 if (!reported_.insert({c->modin_line, i}).second) continue;
             }
-            if (holds(l.value, r.op, rt.value)) continue;
+            if (relation_holds(l.value, r.op, rt.value)) continue;
             report(ctx, v, *spec, r, l, rt, plane, axis);
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
         }
