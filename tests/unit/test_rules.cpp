@@ -129,3 +129,16 @@ TEST_CASE("examples: findings match their inline expectations with every rule en
         for (const auto& p : compare(expected, relevant, {})) FAIL_CHECK(p);
     }
 }
+
+TEST_CASE("the manual's example OEX01: OSP101 for the missing PQ on each call, nothing else at warning or above") {
+    fs::path f = source_dir() / "tests" / "programs" / "OEX01.MIN";
+    FileResult r = check_text(f.string(), read_file(f), Config{});
+    std::vector<uint32_t> lines;
+    for (const auto& d : r.diagnostics) {
+        if (d.severity == Severity::Info) continue;
+        CHECK_MESSAGE(d.rule == "OSP101", "unexpected " << d.rule << ": " << d.message);
+        CHECK(d.message.find("PQ") != std::string::npos);
+        lines.push_back(d.range.start.line);
+    }
+    CHECK(lines == std::vector<uint32_t>{9, 14, 19, 24});  // the four OLAPX/OLAPY calls
+}
