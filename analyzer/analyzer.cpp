@@ -74,7 +74,14 @@ std::vector<int> codes(const Block& b, char address) {
     return out;
 }
 
-bool has(const std::vector<int>& v, int x) { return std::find(v.begin(), v.end(), x) != v.end(); }
+// Membership in a sorted, de-duplicated code list (see `code_set`): blocks with
+// very many words stay linear.
+bool has(const std::vector<int>& sorted, int x) { return std::binary_search(sorted.begin(), sorted.end(), x); }
+std::vector<int> code_set(std::vector<int> v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    return v;
+}
 
 // Blocks whose X/Y/Z words are not a move of the tool tip in program coordinates.
 bool non_motion_axes(const std::vector<int>& g) {
@@ -295,12 +302,13 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     bool unknown_g = false, unknown_m = false;
     const auto g = block_codes(b, 'G', before, unknown_g);
     const auto m = block_codes(b, 'M', before, unknown_m);
+    const auto gs = code_set(g);  // for membership tests; `g` keeps the written order
     const bool is_call = is_call_block(b);  // CALL or MODIN statement on the block
-    const bool g80 = has(g, 80);
-    const bool interpolation = has(g, 0) || has(g, 1) || has(g, 2) || has(g, 3);
+    const bool g80 = has(gs, 80);
+    const bool interpolation = has(gs, 0) || has(gs, 1) || has(gs, 2) || has(gs, 3);
     s.ncyl = b.statement(StmtKind::Ncyl) != nullptr;
     s.noex = b.statement(StmtKind::Noex) != nullptr;
-    s.g100 = has(g, 100);
+    s.g100 = has(gs, 100);
 
     // The macro this block runs, if any, and whether it is the declaration of
     // a G-code macro cycle (G114 -> OG84L).
@@ -368,7 +376,7 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         s.cycle = Val<std::optional<ActiveCycle>>{};
         positions_unknown = true;
     }
-    if (has(g, 20) && b.find("HP")) positions_unknown = true;  // G20 HP=n: home position (Multus)
+    if (has(gs, 20) && b.find("HP")) positions_unknown = true;  // G20 HP=n: home position (Multus)
 
     // --- Words that set modal values ------------------------------------------
     for (const auto& w : b.words) {
@@ -376,11 +384,11 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         auto v = word_value(b, w, before);
         switch (w.address[0]) {
             case 'H':
-                if (has(g, 15)) s.work_offset = known_or_unknown(v);
-                if (has(g, 56)) s.length_offset_h = known_or_unknown(v);
+                if (has(gs, 15)) s.work_offset = known_or_unknown(v);
+                if (has(gs, 56)) s.length_offset_h = known_or_unknown(v);
                 break;
             case 'D':
-                if (has(g, 41) || has(g, 42)) s.cutter_comp_d = known_or_unknown(v);
+                if (has(gs, 41) || has(gs, 42)) s.cutter_comp_d = known_or_unknown(v);
                 break;
             case 'S':
                 if (!is_call) {
@@ -389,10 +397,10 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
                 }
                 break;
             case 'F':
-                if (!is_call && !has(g, 4)) s.feed = known_or_unknown(v);
+                if (!is_call && !has(gs, 4)) s.feed = known_or_unknown(v);
                 break;
             case 'Z':
-                if (has(g, 71)) s.g71_level = known_or_unknown(v);
+                if (has(gs, 71)) s.g71_level = known_or_unknown(v);
                 break;
             default: break;
         }
@@ -516,13 +524,13 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     if (b.statement(StmtKind::Call)) positions_unknown = true;
     if (positions_unknown) {
         all_positions_unknown(s);
-    } else if (has(g, 92) || has(g, 50) || has(g, 22) || has(g, 23)) {
+    } else if (has(gs, 92) || has(gs, 50) || has(gs, 22) || has(gs, 23)) {
         // Coordinate setting and the like: the named axes get values this
         // evaluator does not model.
         for (const auto& w : b.words)
             if (w.address.size() == 1)
                 if (Val<double>* ax = s.axis_ref(w.address[0])) *ax = Val<double>{};
-    } else if (!has(g, 71) && !has(g, 4)) {
+    } else if (!has(gs, 71) && !has(gs, 4)) {
         const Distance* dist = s.distance.known ? &s.distance.value : nullptr;
         for (const auto& w : b.words) {
             if (w.address.size() != 1) continue;
@@ -543,7 +551,7 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
                 *ax = old.known ? Val<double>::of(old.value + *v) : Val<double>{};
             }
         }
-        if ((has(g, 56) || has(g, 53)) && !b.find("Z")) s.z = Val<double>{};  // the offset changes the tip's Z
+        if ((has(gs, 56) || has(gs, 53)) && !b.find("Z")) s.z = Val<double>{};  // the offset changes the tip's Z
         if (has_coord_calc(b)) {
             // A hole pattern: the positioning-plane axes end at its last point.
             if (s.plane.known) {
