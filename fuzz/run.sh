@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Builds the differential fuzzer (fuzz/diff_fuzz.cpp) with clang, libFuzzer,
+# AddressSanitizer and UndefinedBehaviorSanitizer, and runs it on the program
+# corpus. Extra arguments go to libFuzzer, e.g.
+#
+#     fuzz/run.sh -max_total_time=600
+#     fuzz/run.sh -runs=100000 -jobs=2
+#
+# The build (and the corpus the fuzzer grows) lives in $OSPLINT_FUZZ_DIR,
+# default build-fuzz/ at the top of the repository; a second run only relinks.
+# Exit status: 0 when the run ends without a crash or divergence.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+dir=${OSPLINT_FUZZ_DIR:-$root/build-fuzz}
+jobs=${OSPLINT_FUZZ_BUILD_JOBS:-2}
+command -v clang++ >/dev/null || { echo "fuzz/run.sh: clang++ is required" >&2; exit 3; }
+
+mkdir -p "$dir"
+# The library, instrumented for coverage and built with the sanitizers.
+if [[ ! -f "$dir/core/build.ninja" ]]; then
+  cmake -S "$root" -B "$dir/core" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DOSPLINT_SANITIZE=ON \
+    -DCMAKE_C_FLAGS=-fsanitize=fuzzer-no-link -DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link >/dev/null
+fi
+ninja -C "$dir/core" -j "$jobs" osplint_core >/dev/null
+
+target="$dir/diff_fuzz"
+if [[ ! -x "$target" || "$root/fuzz/diff_fuzz.cpp" -nt "$target" || "$dir/core/libosplint_core.a" -nt "$target" ]]; then
+  # shellcheck disable=SC2046
+  clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+    -I"$root/include" -I"$root/analyzer" -I"$root" -I"$dir/core/generated" \
+    "$root/fuzz/diff_fuzz.cpp" -o "$target" \
+    "$dir/core/libosplint_core.a" "$dir/core/libosplint_grammar.a" \
+    $(pkg-config --libs tree-sitter tomlplusplus) -lfmt -lpthread
+fi
+
+# Seeds: every program of the repository (small ones), as they are.
+seeds="$dir/seeds"
+mkdir -p "$seeds" "$dir/corpus"
+find "$root/tests/programs" "$root/examples" "$root/tests/rules" "$root/tests/frontend" -type f \
+  \( -iname '*.MIN' -o -iname '*.SSB' -o -iname '*.SUB' -o -iname '*.LIB' -o -iname '*.NC' -o -iname '*.SDF' \) \
+  -size -64k -print0 | xargs -0 -I{} cp -f {} "$seeds/" 2>/dev/null || true
+
+cd "$dir"
+exec "$target" -dict="$root/fuzz/osp.dict" -max_len=4096 -timeout=20 -rss_limit_mb=2048 \
+  -print_final_stats=1 "$@" "$dir/corpus" "$seeds"

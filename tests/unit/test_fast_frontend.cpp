@@ -1,0 +1,562 @@
+// Differential tests of the streaming front end and check (analyzer/frontend_fast.h,
+// analyzer/stream.h) against the tree-sitter front end and check_text:
+//
+//   * every corpus and example program, the grammar's corpus inputs, generated
+//     programs and randomly mutated programs (seeded): both front ends give
+//     the same Blocks (operator==) and the same programs;
+//   * the same inputs checked both ways give the same diagnostics, every field
+//     (dump_result), whatever the chunk size the stream is read with;
+//   * the streaming cases that need a program read again (a program name after
+//     comment lines, RTS, jumps, N references, CALLs of later programs) and the
+//     positions of CR LF / lone CR / non-ASCII text.
+//
+// One divergence is tolerated, and counted: on a line that is a syntax error
+// for one of the front ends, tree-sitter's error recovery depends on the
+// neighbouring lines, while the fast front end parses every line it does not
+// handle on its own (frontend_fast.h). There the fast block must be the line's
+// own tree-sitter parse. Once the tree-sitter front end parses such lines on
+// their own as well, kStrictErrorLines makes that a failure too.
+#include <doctest/doctest.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "frontend.h"
+#include "frontend_fast.h"
+#include "osplint/osplint.h"
+#include "stream.h"
+
+namespace fs = std::filesystem;
+using namespace osplint;
+
+namespace {
+
+constexpr bool kStrictErrorLines = false;
+
+std::string read_all(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+bool is_program_file(const fs::path& p) {
+    std::string ext = p.extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return ext == ".MIN" || ext == ".SSB" || ext == ".SUB" || ext == ".LIB" || ext == ".NC" || ext == ".SDF" ||
+           ext == ".MSB";
+}
+
+// Every program of the corpus, the examples, the rule fixtures and the
+// front-end fixtures.
+std::vector<fs::path> corpus_files() {
+    std::vector<fs::path> out;
+    const fs::path root(OSPLINT_SOURCE_DIR);
+    for (const char* dir : {"tests/programs", "examples", "tests/rules", "tests/frontend"}) {
+        if (!fs::exists(root / dir)) continue;
+        for (const auto& e : fs::recursive_directory_iterator(root / dir))
+            if (e.is_regular_file() && is_program_file(e.path())) out.push_back(e.path());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// The inputs of the grammar's corpus tests (grammar/test/corpus/*.txt).
+std::vector<std::string> grammar_inputs() {
+    std::vector<std::string> out;
+    const fs::path dir = fs::path(OSPLINT_SOURCE_DIR) / "grammar" / "test" / "corpus";
+    if (!fs::exists(dir)) return out;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".txt") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+        const std::string text = read_all(f);
+        std::istringstream in(text);
+        std::string line;
+        enum { Outside, Name, Input } state = Outside;
+        std::string input;
+        while (std::getline(in, line)) {
+            const bool rule = line.size() >= 3 && line.find_first_not_of('=') == std::string::npos;
+            const bool dashes = line.size() >= 3 && line.find_first_not_of('-') == std::string::npos;
+            if (state == Outside && rule) {
+                state = Name;
+            } else if (state == Name && rule) {
+                state = Input;
+                input.clear();
+            } else if (state == Input && dashes) {
+                // The blank line before the dashes separates the input from them.
+                if (!input.empty() && input.back() == '\n') input.pop_back();
+                out.push_back(input);
+                state = Outside;
+            } else if (state == Input) {
+                input += line + "\n";
+            }
+        }
+    }
+    return out;
+}
+
+struct ModelComparison {
+    size_t blocks = 0;
+    size_t fallback = 0;
+    size_t strict = 0;     // divergences that are failures
+    size_t tolerated = 0;  // error lines parsed on their own (see the top of the file)
+    std::string report;
+};
+
+// The line of a block, as the streaming front end sees it.
+LineRef line_of(const ProgramFile& f, const Block& b) {
+    const std::string_view text = f.source.text();
+    const std::string_view lt = f.source.line_text(b.line);
+    const uint32_t end = b.line_start + static_cast<uint32_t>(lt.size());
+    uint32_t term = 0;
+    if (end < text.size()) term = (text[end] == '\r' && end + 1 < text.size() && text[end + 1] == '\n') ? 2 : 1;
+    return LineRef{lt, text.substr(end, term), b.line, b.line_start};
+}
+
+ModelComparison compare_models(const std::string& name, const std::string& text) {
+    ModelComparison c;
+    const ProgramFile ts = parse_program_file(name, text);
+    uint64_t fallback = 0;
+    const ProgramFile fast = parse_program_file_fast(name, text, &fallback);
+    c.blocks = ts.blocks.size();
+    c.fallback = fallback;
+    if (ts.blocks.size() != fast.blocks.size()) {
+        ++c.strict;
+        c.report += name + ": " + std::to_string(ts.blocks.size()) + " blocks vs " +
+                    std::to_string(fast.blocks.size()) + "\n";
+        return c;
+    }
+    for (size_t k = 0; k < ts.blocks.size(); ++k) {
+        const Block& a = ts.blocks[k];
+        const Block& b = fast.blocks[k];
+        if (a == b) continue;
+        Block alone;
+        parse_line_tree_sitter(line_of(ts, a), alone);
+        if (!kStrictErrorLines && (!a.errors.empty() || !b.errors.empty()) && b == alone) {
+            ++c.tolerated;
+            continue;
+        }
+        ++c.strict;
+        if (c.report.size() < 20000)
+            c.report += name + " line " + std::to_string(a.line) + ": '" + std::string(ts.source.line_text(a.line)) +
+                        "'\n-- tree-sitter:\n" + dump_block(a) + "-- fast:\n" + dump_block(b);
+    }
+    if (!(ts.programs == fast.programs)) {
+        if (c.tolerated == 0) {
+            ++c.strict;
+            c.report += name + ": programs differ\n";
+        } else {
+            ++c.tolerated;
+        }
+    }
+    return c;
+}
+
+Config config_for(const fs::path& file) {
+    fs::path dir = file.parent_path();
+    if (dir.empty()) dir = ".";
+    if (auto f = find_config(dir)) return load_config(*f);
+    return Config{};
+}
+
+// check_text and the streaming check, with several chunk sizes; every field
+// of the results must agree.
+void compare_checks(const std::string& name, const std::string& text, const Config& config,
+                    const AnalysisOptions& options = {}, StreamStats* stats = nullptr) {
+    const std::string expected = dump_result(check_text(name, text, config, options));
+    for (size_t chunk : {size_t(1) << 20, size_t(1), size_t(7), size_t(4096)}) {
+        StreamStats st;
+        StreamOptions so;
+        so.chunk_size = chunk;
+        so.stats = &st;
+        const std::string got = dump_result(check_text_fast(name, text, config, options, so));
+        if (got != expected) {
+            FAIL_CHECK(name << " (chunk " << chunk << ") differs\n-- check_text:\n"
+                            << expected << "-- streaming:\n"
+                            << got);
+            return;
+        }
+        if (stats && chunk == (size_t(1) << 20)) *stats = st;
+    }
+}
+
+// ------------------------------------------------------------- generation
+
+// A deterministic generator of programs that use everything the streaming
+// check handles differently: several programs, jumps and loops, RTS, N
+// references, CALLs of programs defined later, directives, error lines, line
+// ends of every kind, non-ASCII comments.
+class Generator {
+public:
+    explicit Generator(uint32_t seed) : rng_(seed) {}
+
+    std::string program() {
+        std::string out;
+        eol_ = pick({"\n", "\n", "\n", "\r\n", "\r"});
+        if (chance(20)) line(out, "%");
+        if (chance(15)) line(out, "$PART" + num(1, 99) + ".MIN%");
+        for (int i = 0, n = static_cast<int>(range(0, 3)); i < n; ++i) line(out, comment());
+        const int programs = static_cast<int>(range(1, 3));
+        for (int p = 0; p < programs; ++p) {
+            if (p > 0 || !chance(15)) line(out, "O" + pick({"1000", "SUB" + num(1, 3), "TEST", "8800", "ABC"}) +
+                                                     (chance(30) ? " " + comment() : ""));
+            const int blocks = static_cast<int>(range(3, 40));
+            for (int b = 0; b < blocks; ++b) block(out);
+            line(out, chance(50) ? "M30" : chance(50) ? "RTS" : chance(50) ? "M02" : "G0 Z100.");
+        }
+        if (chance(20)) line(out, "%");
+        if (chance(25) && !out.empty()) out.erase(out.size() - eol_.size());  // no final line end
+        return out;
+    }
+
+private:
+    std::mt19937 rng_;
+    std::string eol_ = "\n";
+
+    uint32_t range(uint32_t lo, uint32_t hi) { return lo + rng_() % (hi - lo + 1); }
+    bool chance(int percent) { return static_cast<int>(rng_() % 100) < percent; }
+    std::string pick(std::initializer_list<std::string> options) {
+        auto it = options.begin();
+        std::advance(it, rng_() % options.size());
+        return *it;
+    }
+    std::string num(int lo, int hi) { return std::to_string(range(static_cast<uint32_t>(lo), static_cast<uint32_t>(hi))); }
+    std::string coord() {
+        const int v = static_cast<int>(range(0, 200000)) - 100000;
+        std::string s = std::to_string(std::abs(v) / 1000) + "." + std::to_string(std::abs(v) % 1000);
+        if (chance(20)) s = std::to_string(std::abs(v) / 1000) + ".";
+        if (chance(10)) s = "." + std::to_string(std::abs(v) % 1000);
+        return (v < 0 ? "-" : "") + s;
+    }
+    std::string comment() {
+        return pick({"(ROUGHING)", "(T1 D10 BALL)", "(\xE5\x88\x87\xE5\x89\x8A)", "(\x90\xD8\x8D\xED)",
+                     "(osplint: disable=OSP004 -- ends elsewhere)", "(osplint: disable=OSP005)",
+                     "(osplint: disable-file=OSP004)", "(osplint: disable=OSP999)", "(OPEN COMMENT", "()"});
+    }
+    void line(std::string& out, const std::string& l) { out += l + eol_; }
+
+    void block(std::string& out) {
+        std::string b;
+        if (chance(10)) b += "/";
+        if (chance(15)) b += "N" + pick({num(1, 50), "AT" + num(1, 3), "LOOP", "END" + num(1, 2)}) + " ";
+        switch (rng_() % 22) {
+            case 0: b += "G0 X" + coord() + " Y" + coord(); break;
+            case 1: b += "G1 X" + coord() + " Y" + coord() + " Z" + coord() + " F" + num(100, 3000); break;
+            case 2: b += "X" + coord() + "Y" + coord() + "Z" + coord(); break;
+            case 3: b += "T" + num(1, 20) + " M6"; break;
+            case 4: b += "G56 Z50. H" + num(1, 20) + " " + pick({"HA", "M8", ""}); break;
+            case 5: b += "S" + num(100, 9000) + " M3"; break;
+            case 6: b += "G81 Z" + coord() + " R3. F200"; break;
+            case 7: b += "G80"; break;
+            case 8: b += "CALL O" + pick({"SUB1", "SUB2", "KYOY", "ZAGR", "NOPE"}) + " PX=" + coord() + " PY=" + coord() +
+                         " PR=2. PZ=-5." + (chance(30) ? " M52" : "");
+                break;
+            case 9: b += "MODIN OKYOY PR=2. PZ=-4. PI=20. PJ=8. PD=15 PF=250"; break;
+            case 10: b += "MODOUT"; break;
+            case 11: b += "VC" + num(1, 200) + "=" + pick({coord(), "VC1+1", "[VC2-3]*2", "-VC3/4", "PX"}); break;
+            case 12: b += "X=VC1+" + coord() + " Y=-VC2"; break;
+            case 13: b += "GOTO N" + num(1, 50); break;
+            case 14: b += "IF [VC1 LT " + num(1, 9) + "] N" + num(1, 50); break;
+            case 15: b += "WHILE [VC1 LT 3] DO1"; break;
+            case 16: b += "END1"; break;
+            case 17: b += "G85 N" + num(1, 50) + " D7"; break;
+            case 18: b += comment(); break;
+            case 19: b += pick({"G1 X10..5", "S15O0 M3", "X", "G1 X5 @", "CALL", "PX=", "#", "G0 X1 (C"}); break;
+            case 20: b += "M" + pick({"5", "9", "1", "0", "843", "845", "204"}); break;
+            default: b += "G" + pick({"17", "90", "91", "98", "99", "40", "41 D1", "15 H1", "30 P1"}); break;
+        }
+        if (chance(15)) b += " " + comment();
+        if (chance(5)) b += "  ";
+        line(out, b);
+    }
+};
+
+// Random edits of a text: characters and tokens inserted, deleted, replaced;
+// lines doubled, joined and split.
+std::string mutate(std::string text, std::mt19937& rng) {
+    static const char* const kTokens[] = {"G", "X", "N", "O", "V", "(", ")", "[", "]", "=", "-", "+", ".", "/",
+                                          "*", ",", " ", "\t", "\n", "\r", "\r\n", "%", "$", "'", "#", "0", "5",
+                                          "CALL ", "GOTO ", "IF ", "END", "DO", "RTS", "NCYL", "VC1", "PX", "EQ",
+                                          "\xE3\x81\x82", "\x82\xA0", "\x01", "M30", "O1", "HA", "EMPTY", "SIN["};
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int k = 0; k < edits; ++k) {
+        const size_t at = text.empty() ? 0 : rng() % (text.size() + 1);
+        switch (rng() % 6) {
+            case 0:
+            case 1: text.insert(at, kTokens[rng() % (sizeof kTokens / sizeof *kTokens)]); break;
+            case 2:
+                if (at < text.size()) text.erase(at, 1 + rng() % 3);
+                break;
+            case 3:
+                if (at < text.size()) text[at] = "GXYZ0123456789.-+=()[] \n"[rng() % 24];
+                break;
+            case 4: {  // double a line
+                const size_t b = text.rfind('\n', at == 0 ? 0 : at - 1);
+                const size_t s = b == std::string::npos ? 0 : b + 1;
+                const size_t e = text.find('\n', s);
+                if (e != std::string::npos) text.insert(s, text.substr(s, e - s + 1));
+                break;
+            }
+            default: {  // join two lines
+                const size_t nl = text.find('\n', at);
+                if (nl != std::string::npos) text.erase(nl, 1);
+                break;
+            }
+        }
+    }
+    return text;
+}
+
+}  // namespace
+
+TEST_CASE("fast front end: corpus, examples and fixtures give the tree-sitter model") {
+    const auto files = corpus_files();
+    REQUIRE(files.size() > 50);
+    size_t blocks = 0, fallback = 0, tolerated = 0;
+    for (const auto& f : files) {
+        const ModelComparison c = compare_models(f.string(), read_all(f));
+        blocks += c.blocks;
+        fallback += c.fallback;
+        tolerated += c.tolerated;
+        CHECK_MESSAGE(c.strict == 0, c.report);
+    }
+    MESSAGE(files.size() << " files, " << blocks << " blocks, " << fallback << " parsed by tree-sitter, "
+                         << tolerated << " error lines parsed on their own");
+    CHECK(tolerated == 0);
+}
+
+TEST_CASE("fast front end: the grammar corpus inputs") {
+    const auto inputs = grammar_inputs();
+    size_t strict = 0;
+    for (size_t i = 0; i < inputs.size(); ++i) {
+        const ModelComparison c = compare_models("corpus" + std::to_string(i) + ".min", inputs[i]);
+        strict += c.strict;
+        CHECK_MESSAGE(c.strict == 0, c.report);
+    }
+    MESSAGE(inputs.size() << " grammar corpus inputs");
+}
+
+TEST_CASE("fast front end: common blocks take the hand-written path") {
+    FastLineParser p;
+    Block b;
+    for (const char* line :
+         {"G01X10.5Y-3", "N10 G0 G90 X0 Y0 (START)", "/N20 X-.75 F.2 Z3.", "O1234 (PART)", "VC1=5", "PX=PX",
+          "X=VC1+2*[VC2-1] Y=-VC3", "CALL OKYOY PX=-50. PY=-30. PR=2. PZ=-5. Q5", "MODIN OG87C PR=-45.", "MODOUT",
+          "G56 Z50. HA", "RTS", "NCYL G81 Z-3.5 R3. F150", "G85 N0207 D7", "VTOFX[16]=VTOFX[6]+.5", "%",
+          "(COMMENT ONLY)", "", "  \t", "n10 g1 x1 y2 z3 f100", "$HDR.MIN%"}) {
+        const std::string text(line);
+        CHECK_MESSAGE(p.parse_fast_only(LineRef{text, "\n", 1, 0}, b), line);
+        const ProgramFile ts = parse_program_file("t.min", text + "\n");
+        REQUIRE(ts.blocks.size() == 1);
+        CHECK_MESSAGE(b == ts.blocks[0], line << "\n-- tree-sitter:\n" << dump_block(ts.blocks[0]) << "-- fast:\n"
+                                              << dump_block(b));
+    }
+    // Outside the subset: parsed by tree-sitter, with the same result.
+    for (const char* line : {"IF [VC1 LT 3] N10", "GOTO NSTOP", "X=SIN[30]", "PUT 'TEXT'", "S15O0 M3", "G1 X10..5",
+                             "VUACM[1]='NO DATA'", "X5 @"}) {
+        const std::string text(line);
+        CHECK_FALSE_MESSAGE(p.parse(LineRef{text, "\n", 7, 100}, b), line);
+        Block alone;
+        parse_line_tree_sitter(LineRef{text, "\n", 7, 100}, alone);
+        CHECK(b == alone);
+        CHECK(b.line == 7);
+        CHECK(b.range == ByteRange{100, 100 + static_cast<uint32_t>(text.size())});
+    }
+}
+
+TEST_CASE("fast front end: generated programs") {
+    size_t blocks = 0, tolerated = 0, files = 0;
+    for (uint32_t seed = 1; seed <= 300; ++seed) {
+        Generator g(seed);
+        const std::string text = g.program();
+        const ModelComparison c = compare_models("gen" + std::to_string(seed) + ".min", text);
+        blocks += c.blocks;
+        tolerated += c.tolerated;
+        ++files;
+        CHECK_MESSAGE(c.strict == 0, "seed " << seed << "\n" << c.report);
+    }
+    MESSAGE(files << " generated programs, " << blocks << " blocks, " << tolerated
+                  << " error lines parsed on their own");
+}
+
+TEST_CASE("fast front end: randomly mutated corpus programs") {
+    const auto files = corpus_files();
+    std::vector<std::string> texts;
+    for (const auto& f : files) texts.push_back(read_all(f));
+    std::mt19937 rng(20261122);
+    size_t strict = 0, tolerated = 0;
+    const int rounds = 1500;
+    for (int i = 0; i < rounds; ++i) {
+        const std::string text = mutate(texts[rng() % texts.size()], rng);
+        const ModelComparison c = compare_models("mut" + std::to_string(i) + ".min", text);
+        strict += c.strict;
+        tolerated += c.tolerated;
+        CHECK_MESSAGE(c.strict == 0, "round " << i << "\n" << c.report);
+    }
+    MESSAGE(rounds << " mutated programs, " << tolerated << " error lines parsed on their own");
+}
+
+TEST_CASE("streaming check: corpus, examples and fixtures give check_text's result") {
+    const auto files = corpus_files();
+    for (const auto& f : files) {
+        const Config config = config_for(f);
+        const std::string text = read_all(f);
+        compare_checks(f.string(), text, config);
+        // With the program names of the directory, as the CLI passes them.
+        ProgramNames names;
+        for (const auto& e : fs::directory_iterator(f.parent_path()))
+            if (e.is_regular_file() && is_program_file(e.path())) collect_program_names(read_all(e.path()), names);
+        AnalysisOptions options;
+        options.known_programs = &names;
+        compare_checks(f.string(), text, config, options);
+    }
+}
+
+TEST_CASE("streaming check: files, descriptors and pipes") {
+    const fs::path file = fs::path(OSPLINT_SOURCE_DIR) / "examples" / "KEYWAY.MIN";
+    const Config config = config_for(file);
+    const std::string text = read_all(file);
+    const std::string expected = dump_result(check_text(file.string(), text, config));
+    CHECK(dump_result(check_file_fast(file.string(), config)) == expected);
+
+    int fds[2];
+    REQUIRE(::pipe(fds) == 0);
+    REQUIRE(::write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size()));
+    ::close(fds[1]);
+    CHECK(dump_result(check_fd_fast(fds[0], file.string(), config)) == expected);
+    ::close(fds[0]);
+
+    REQUIRE(::pipe(fds) == 0);
+    REQUIRE(::write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size()));
+    ::close(fds[1]);
+    std::string error;
+    const int spooled = spool_to_temporary_file(fds[0], error);
+    ::close(fds[0]);
+    REQUIRE(spooled >= 0);
+    ProgramNames names;
+    CHECK(collect_program_names_fd(spooled, names));
+    ProgramNames expected_names;
+    collect_program_names(text, expected_names);
+    CHECK(names == expected_names);
+    CHECK(dump_result(check_fd_fast(spooled, file.string(), config)) == expected);
+    ::close(spooled);
+
+    const FileResult missing = check_file_fast("/nonexistent/NOPE.MIN", config);
+    CHECK(missing.io_error == check_file("/nonexistent/NOPE.MIN", config).io_error);
+    const FileResult dir = check_file_fast(OSPLINT_SOURCE_DIR, config);
+    CHECK(dir.io_error == "is a directory");
+}
+
+TEST_CASE("streaming check: programs read again") {
+    const Config config;
+    StreamStats st;
+
+    SUBCASE("a program name after the opening comment lines") {
+        compare_checks("a.min", "(HEADER)\n\n%\nO1234\nG0 X1\nM30\n", config, {}, &st);
+        CHECK(st.restarts == 1);
+        CHECK(st.buffered_programs == 0);
+    }
+    SUBCASE("a file without a program name") {
+        compare_checks("a.min", "(HEADER)\nG0 X1\nG0 X-1 (osplint: disable=OSP004)\n", config, {}, &st);
+        CHECK(st.restarts == 0);
+    }
+    SUBCASE("an RTS makes the first program a subprogram") {
+        compare_checks("a.min", "O1\nG81 Z-5. R2. F100\nX1.\nRTS\nO2\nG0 X0\nG81 Z-5. R2. F100\nM30\n", config, {},
+                       &st);
+        CHECK(st.restarts == 1);
+    }
+    SUBCASE("jumps and loops need the fixpoint") {
+        compare_checks("a.min",
+                       "O1\nVC1=0\nN1 G81 Z-5. R2. F100\nVC1=VC1+1\nIF [VC1 LT 3] N1\nG80\nGOTO NEND\nG0 X1\n"
+                       "NEND M30\nO2\nWHILE [VC2 LT 2] DO1\nVC2=VC2+1\nEND1\nRTS\n",
+                       config, {}, &st);
+        CHECK(st.buffered_programs == 2);
+    }
+    SUBCASE("an N reference to a sequence name further down") {
+        compare_checks("a.min", "O1\nG85 N10 D7\nG0 X0\nN10 G1 X5\nG85 NAT2 D7\nM30\n", config, {}, &st);
+        CHECK(st.buffered_programs == 1);
+    }
+    SUBCASE("a CALL of a program defined later in the file") {
+        compare_checks("a.min", "O1\nCALL OSUB1 PX=1\nCALL OMISSING\nM30\nOSUB1\nG0 X1\nRTS\n", config, {}, &st);
+        CHECK(st.buffered_programs == 0);
+    }
+    SUBCASE("programs with the same name") {
+        compare_checks("a.min", "O1\nX1 Y1 @\nM30\nO1\nX1 Y1 @\nRTS\nO1\nGOTO N9\nX1 Y1 @\nRTS\n", config);
+    }
+    SUBCASE("a subprogram library") {
+        compare_checks("a.ssb", "OA\nG0 X1\nOB\nG81 Z-1. R1. F1\nRTS\n", config);
+    }
+    SUBCASE("findings on earlier lines, found again from a checkpoint") {
+        std::string text = "O1\nG81 Z-5. R2. F100\n";
+        for (int i = 0; i < 3000; ++i) text += "X" + std::to_string(i % 50) + ". Y1.\n";
+        text += "M30\n";
+        compare_checks("a.min", text, config);
+    }
+}
+
+TEST_CASE("streaming check: suppression directives") {
+    const Config config;
+    compare_checks("s.min",
+                   "(osplint: disable-file=OSP004 -- ends elsewhere)\nO1\n(osplint: disable=OSP005 -- on the control)\n"
+                   "\nCALL OMISSING\nCALL ONOPE (osplint: disable=OSP005,OSP104)\n(osplint: disable=OSP999)\n"
+                   "(osplint: disable=syntax-error)\n(osplint: enable=OSP1)\n(osplint: disable=OSP001)\nG1 X5 @\n"
+                   "(osplint: disable=OSP104)\n",
+                   config);
+    Config all;
+    all.rule_severity["OSP902"] = Severity::Info;
+    compare_checks("s.min",
+                   "O1 (osplint: disable=OSP004)\nG0 X1 (osplint: disable=OSP005, OSP104 -- not needed)\n"
+                   "(osplint: disable=OSP104)\n",
+                   all);
+}
+
+TEST_CASE("streaming check: positions on any line ending and text") {
+    const Config config;
+    for (const char* eol : {"\n", "\r\n", "\r"}) {
+        std::string text;
+        for (const char* l : {"O1 (\xE5\x88\x87\xE5\x89\x8A \xF0\x9F\x94\xA7)", "(\x90\xD8\x8D\xED) G81 Z-5. R2. F100",
+                              "X1 Y1 @ (\xE3\x81\x82)", "CALL OMISSING PX=1", "\t G1 X5 (open"})
+            text += std::string(l) + eol;
+        compare_checks("p.min", text, config);
+        compare_checks("p.min", text.substr(0, text.size() - std::strlen(eol)), config);  // no final line end
+    }
+    compare_checks("e.min", "", config);
+    compare_checks("e.min", "\n\n\n", config);
+    compare_checks("e.min", "\r\n", config);
+}
+
+TEST_CASE("streaming check: generated programs") {
+    const Config config;
+    for (uint32_t seed = 1; seed <= 300; ++seed) {
+        Generator g(seed);
+        const std::string text = g.program();
+        if (compare_models("g.min", text).tolerated) continue;  // see the top of the file
+        compare_checks("gen" + std::to_string(seed) + (seed % 3 ? ".min" : ".ssb"), text, config);
+    }
+}
+
+TEST_CASE("streaming check: randomly mutated corpus programs") {
+    const auto files = corpus_files();
+    std::vector<std::pair<fs::path, std::string>> texts;
+    for (const auto& f : files) texts.emplace_back(f, read_all(f));
+    std::mt19937 rng(11221);
+    int compared = 0;
+    for (int i = 0; i < 400; ++i) {
+        const auto& [path, original] = texts[rng() % texts.size()];
+        const std::string text = mutate(original, rng);
+        if (compare_models("m.min", text).tolerated) continue;
+        compare_checks(path.string(), text, config_for(path));
+        ++compared;
+    }
+    MESSAGE(compared << " mutated programs checked both ways");
+}
