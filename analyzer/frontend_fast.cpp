@@ -233,6 +233,8 @@ struct FastLineParser::Impl {
     uint32_t base = 0;
     Block* b = nullptr;
     int depth = 0;  // bracket nesting inside an expression
+    // Deeper lines are left to the tree-sitter front end (bounded recursion here).
+    static constexpr int kMaxDepth = 64;
 
     enum class Ctx { Block, CallArgs };
 
@@ -352,7 +354,7 @@ struct FastLineParser::Impl {
         ExprId subs[2];
         int count = 0;
         uint32_t p = open + 1;
-        ++depth;
+        if (++depth > kMaxDepth) return kFail;  // deep nesting: the tree-sitter front end reports it
         while (true) {
             p = expr(p, 0);
             if (p == kFail) return kFail;
@@ -378,7 +380,9 @@ struct FastLineParser::Impl {
         if (p >= n) return kFail;
         const char c = s[p];
         if (c == '-' || c == '+') {
+            if (++depth > kMaxDepth) return kFail;
             const uint32_t q = unary(p + 1);
+            --depth;
             if (q == kFail) return kFail;
             const ExprId operand = last_expr();
             const uint32_t end = b->exprs[static_cast<size_t>(operand)].range.end;
@@ -388,7 +392,7 @@ struct FastLineParser::Impl {
         }
         if (is_digit(c) || c == '.') return number(p);
         if (c == '[') {
-            ++depth;
+            if (++depth > kMaxDepth) return kFail;  // deep nesting: the tree-sitter front end reports it
             uint32_t q = expr(p + 1, 0);
             if (q == kFail) return kFail;
             const ExprId inner = last_expr();

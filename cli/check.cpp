@@ -19,6 +19,7 @@
 #include "analyzer/errors.h"
 #include "analyzer/formats.h"
 #include "analyzer/report.h"
+#include "analyzer/stream.h"
 #include "analyzer/sarif.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
@@ -101,8 +102,10 @@ std::vector<FileResult> check_files(const std::vector<std::string>& files,
         for (size_t i; (i = next.fetch_add(1)) < files.size();) {
             FileResult r;
             try {
-                if (files[i] == "-") r = check_text(stdin_name, stdin_text, *configs[i], options);
-                else r = check_file(files[i], *configs[i], options);
+                // The batch path streams (analyzer/stream.h): same findings as
+                // check_text, in bounded memory however large the program.
+                if (files[i] == "-") r = check_text_fast(stdin_name, stdin_text, *configs[i], options);
+                else r = check_file_fast(files[i], *configs[i], options);
             } catch (const std::exception& e) {
                 r = FileResult{};
                 r.path = files[i] == "-" ? stdin_name : files[i];
