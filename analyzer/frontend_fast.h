@@ -9,8 +9,10 @@
 // (keywords other than CALL/MODIN/RTS/MODOUT/NCYL/NOEX, functions, strings,
 // comparisons, syntax errors, non-ASCII text outside comments, ...) is parsed by
 // the tree-sitter front end on its own, with its offsets shifted to the line's
-// place in the file. The grammar is line oriented, so a line parses the same
-// alone and in its file.
+// place in the file. The grammar is line oriented, so a line without syntax
+// errors parses the same alone and in its file; on a line with one,
+// tree-sitter's error recovery may depend on the lines around it, and this
+// front end gives the line's own parse.
 #pragma once
 
 #include <cstdint>

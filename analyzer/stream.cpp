@@ -157,10 +157,14 @@ public:
     LineStream(ByteSource& src, size_t chunk) : src_(&src), chunk_(std::max<size_t>(chunk, 1)) {}
 
     void seek(uint64_t offset, uint32_t line) {
+        line_ = line;
+        if (offset >= buf_offset_ && offset <= buf_offset_ + end_) {  // still in the buffer
+            pos_ = static_cast<size_t>(offset - buf_offset_);
+            return;
+        }
         buf_offset_ = offset;
         pos_ = end_ = 0;
         eof_ = false;
-        line_ = line;
     }
 
     // The next line; false at the end of the input or on a read error.
@@ -448,7 +452,8 @@ private:
 bool ends_program(const Block& b) {
     if (b.statement(StmtKind::Rts)) return true;
     for (const auto& w : b.words)
-        if (w.address == "M" && w.number && (*w.number == 2 || *w.number == 30)) return true;
+        if (w.address.size() == 1 && w.address[0] == 'M' && w.number && (*w.number == 2 || *w.number == 30))
+            return true;
     return false;
 }
 
@@ -1058,7 +1063,7 @@ class Checker {
 public:
     Checker(const std::string& path, ByteSource& src, std::optional<uint64_t> size, const Config& config,
             const AnalysisOptions& options, const StreamOptions& stream)
-        : path_(path), src_(src), size_(size), config_(config), options_(options),
+        : path_(path), src_(src), size_(size), config_(config),
           stats_(stream.stats ? *stream.stats : own_stats_), main_(src, stream.chunk_size), positions_(src, size),
           ctx_(path_, config, options.known_programs, positions_, src, stats_), suppressions_(config, options) {
         library_ = file_is_subprogram_library(path_);
@@ -1463,7 +1468,6 @@ private:
     ByteSource& src_;
     std::optional<uint64_t> size_;
     const Config& config_;
-    const AnalysisOptions& options_;
     StreamStats own_stats_;
     StreamStats& stats_;
     LineStream main_;

@@ -8,6 +8,7 @@
 #
 # The build (and the corpus the fuzzer grows) lives in $OSPLINT_FUZZ_DIR,
 # default build-fuzz/ at the top of the repository; a second run only relinks.
+# $OSPLINT_FUZZ_CORPUS names another corpus directory (default DIR/corpus).
 # Exit status: 0 when the run ends without a crash or divergence.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -36,11 +37,12 @@ fi
 
 # Seeds: every program of the repository (small ones), as they are.
 seeds="$dir/seeds"
-mkdir -p "$seeds" "$dir/corpus"
+corpus=${OSPLINT_FUZZ_CORPUS:-$dir/corpus}
+mkdir -p "$seeds" "$corpus"
 find "$root/tests/programs" "$root/examples" "$root/tests/rules" "$root/tests/frontend" -type f \
   \( -iname '*.MIN' -o -iname '*.SSB' -o -iname '*.SUB' -o -iname '*.LIB' -o -iname '*.NC' -o -iname '*.SDF' \) \
   -size -64k -print0 | xargs -0 -I{} cp -f {} "$seeds/" 2>/dev/null || true
 
 cd "$dir"
 exec "$target" -dict="$root/fuzz/osp.dict" -max_len=4096 -timeout=20 -rss_limit_mb=2048 \
-  -print_final_stats=1 "$@" "$dir/corpus" "$seeds"
+  -print_final_stats=1 "$@" "$corpus" "$seeds"

@@ -337,10 +337,9 @@ TEST_CASE("fast front end: corpus, examples and fixtures give the tree-sitter mo
 
 TEST_CASE("fast front end: the grammar corpus inputs") {
     const auto inputs = grammar_inputs();
-    size_t strict = 0;
+    CHECK(inputs.size() > 20);
     for (size_t i = 0; i < inputs.size(); ++i) {
         const ModelComparison c = compare_models("corpus" + std::to_string(i) + ".min", inputs[i]);
-        strict += c.strict;
         CHECK_MESSAGE(c.strict == 0, c.report);
     }
     MESSAGE(inputs.size() << " grammar corpus inputs");
@@ -394,12 +393,11 @@ TEST_CASE("fast front end: randomly mutated corpus programs") {
     std::vector<std::string> texts;
     for (const auto& f : files) texts.push_back(read_all(f));
     std::mt19937 rng(20261122);
-    size_t strict = 0, tolerated = 0;
+    size_t tolerated = 0;
     const int rounds = 1500;
     for (int i = 0; i < rounds; ++i) {
         const std::string text = mutate(texts[rng() % texts.size()], rng);
         const ModelComparison c = compare_models("mut" + std::to_string(i) + ".min", text);
-        strict += c.strict;
         tolerated += c.tolerated;
         CHECK_MESSAGE(c.strict == 0, "round " << i << "\n" << c.report);
     }
