@@ -80,18 +80,13 @@ void validate_selection(const CheckOptions& o) {
         }
 }
 
-bool read_stdin(std::string& out) {
-    out.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
-    return !std::cin.bad();
-}
-
 // Checks every file on a pool of worker threads. Each worker reads, parses and
 // analyzes one file at a time and keeps only its findings, so at most `jobs`
 // parsed files exist at once; results land in the slot of their file, so the
 // report is in path order and identical whatever the number of workers.
 std::vector<FileResult> check_files(const std::vector<std::string>& files,
                                     const std::vector<std::shared_ptr<Config>>& configs,
-                                    const std::string& stdin_name, const std::string& stdin_text,
+                                    const std::string& stdin_name, int stdin_fd,
                                     const AnalysisOptions& options, unsigned jobs) {
     std::vector<FileResult> results(files.size());
     std::atomic<size_t> next{0};
@@ -104,7 +99,7 @@ std::vector<FileResult> check_files(const std::vector<std::string>& files,
             try {
                 // The batch path streams (analyzer/stream.h): same findings as
                 // check_text, in bounded memory however large the program.
-                if (files[i] == "-") r = check_text_fast(stdin_name, stdin_text, *configs[i], options);
+                if (files[i] == "-") r = check_fd_fast(stdin_fd, stdin_name, *configs[i], options);
                 else r = check_file_fast(files[i], *configs[i], options);
             } catch (const std::exception& e) {
                 r = FileResult{};
@@ -181,7 +176,7 @@ int run_check(const CheckOptions& o) {
 
     // Program names defined by the checked files and by the subprogram files
     // (.SSB/.SUB/.LIB/.MSB) beside them, for unknown-subprogram checks.
-    std::string stdin_text;
+    int stdin_fd = -1;  // stdin copied to an unlinked temporary file: read twice, never held
     bool have_stdin = false;
     ProgramNames names;
     std::map<std::string, bool> scanned_dirs;
@@ -196,30 +191,27 @@ int run_check(const CheckOptions& o) {
                 if (ext != ".SSB" && ext != ".SUB" && ext != ".LIB" && ext != ".MSB") continue;
                 std::error_code e2;
                 if (!it->is_regular_file(e2) || it->file_size(e2) > (64u << 20)) continue;
-                std::ifstream in(it->path(), std::ios::binary);
-                std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-                collect_program_names(text, names);
+                collect_program_names_file(it->path().string(), names);
             }
         }
         if (f == "-") {
             if (!have_stdin) {
-                read_stdin(stdin_text);
+                std::string error;
+                stdin_fd = spool_to_temporary_file(STDIN_FILENO, error);
+                if (stdin_fd < 0) errors.push_back(stdin_name + ": " + error);
                 have_stdin = true;
             }
-            collect_program_names(stdin_text, names);
+            if (stdin_fd >= 0) collect_program_names_fd(stdin_fd, names);
             continue;
         }
         std::error_code ec;
-        if (fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32)) {
-            std::ifstream in(f, std::ios::binary);
-            std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-            collect_program_names(text, names);
-        }
+        if (fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32)) collect_program_names_file(f, names);
     }
 
     AnalysisOptions options;
     options.known_programs = &names;
-    std::vector<FileResult> results = check_files(files, configs, stdin_name, stdin_text, options, o.jobs);
+    std::vector<FileResult> results = check_files(files, configs, stdin_name, stdin_fd, options, o.jobs);
+    if (stdin_fd >= 0) ::close(stdin_fd);
     bool io_failed = !errors.empty();
     for (const auto& r : results)
         if (!r.io_error.empty()) {
