@@ -675,4 +675,58 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     }
 }
 
+bool is_plain_move_block(const Block& b) {
+    if (b.kind != LineKind::Block || b.program_name || b.block_delete || b.words.empty() || !b.statements.empty() ||
+        !b.assignments.empty() || !b.errors.empty())
+        return false;
+    for (const auto& w : b.words) {
+        if (w.address.size() != 1 || w.equals || !w.number) return false;
+        switch (w.address[0]) {
+            case 'X': case 'Y': case 'Z': case 'F': break;
+            case 'G': {
+                const double g = *w.number;
+                if (!(g == 0 || g == 1 || g == 2 || g == 3)) return false;
+                break;
+            }
+            default: return false;
+        }
+    }
+    return true;
+}
+
+bool plain_move_state(const ModalState& s) {
+    return s.cycle.known && !s.cycle.value && s.modin.known && !s.modin.value;
+}
+
+bool plain_moves_possible(const Catalog& catalog) {
+    for (const char* code : {"G0", "G1", "G2", "G3"})
+        if (catalog.find_by_code(code)) return false;
+    return true;
+}
+
+void apply_plain_move(const Block& b, ModalState& s) {
+    // apply_block on such a block: no G code but the motion mode, no M code, no
+    // call, no cycle (known), so every X/Y/Z is a move read in the state before
+    // the block, and F sets the feed.
+    s.clear_one_shots();
+    const Val<double> before[3] = {s.x, s.y, s.z};
+    const bool known = s.distance.known;
+    const bool absolute = s.distance.value == Distance::Absolute;
+    for (const auto& w : b.words) {
+        const double v = *w.number;
+        int axis = 0;
+        switch (w.address[0]) {
+            case 'G': s.motion = Val<int>::of(static_cast<int>(v)); continue;
+            case 'F': s.feed = Val<double>::of(v); continue;
+            case 'X': axis = 0; break;
+            case 'Y': axis = 1; break;
+            default: axis = 2; break;
+        }
+        Val<double>& ax = axis == 0 ? s.x : axis == 1 ? s.y : s.z;
+        if (!known) ax = Val<double>{};
+        else if (absolute) ax = Val<double>::of(v);
+        else ax = before[axis].known ? Val<double>::of(before[axis].value + v) : Val<double>{};
+    }
+}
+
 }  // namespace osplint

@@ -51,6 +51,20 @@ ModalState initial_state(const Config& config, bool subprogram);
 // that needs modal state: the analyzer, `osplint trace`, the language server).
 void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state);
 
+// Plain moves. Most blocks of a CAM-posted program are `X.. Y.. Z..`, perhaps
+// with a sequence name, G0..G3 and F. A block is a plain move when its words
+// are only literal X, Y, Z, F and G0/G1/G2/G3 (no `=`, no expression), it has
+// no program name, block delete, statement or assignment, and it runs while
+// no fixed cycle and no MODIN is known to be modal (`plain_move_state`), and
+// no G0..G3 is registered as a macro code (`plain_moves_possible`). On such a
+// block resolve_call finds nothing, and apply_block only sets the motion mode,
+// the feed and the positions: `apply_plain_move` does just that, and the batch
+// path calls only the rules that look at such blocks (Rule::sees_plain_moves).
+bool is_plain_move_block(const Block& block);
+bool plain_move_state(const ModalState& before);
+bool plain_moves_possible(const Catalog& catalog);
+// apply_block(block, nullptr, catalog, state) for a plain move in a plain-move state.
+void apply_plain_move(const Block& block, ModalState& state);
 // Resolves the macro or subprogram a block invokes, with evaluated arguments.
 std::optional<MacroCall> resolve_call(const Block& block, const ModalState& before, const Catalog& catalog);
 

@@ -172,7 +172,15 @@ bool command_keyword(const char* name, uint32_t len) {
 OSPLINT_HOT void set_text(std::string& dst, const char* p, size_t n) {
     if (dst.size() == n) {
         char* d = dst.data();
-        for (size_t i = 0; i < n; ++i) d[i] = p[i];
+        if (n >= 4 && n <= 8) {  // two overlapping 4-byte moves
+            uint32_t a, z;
+            std::memcpy(&a, p, 4);
+            std::memcpy(&z, p + n - 4, 4);
+            std::memcpy(d, &a, 4);
+            std::memcpy(d + n - 4, &z, 4);
+        } else {
+            for (size_t i = 0; i < n; ++i) d[i] = p[i];
+        }
     } else {
         dst.assign(p, n);
     }
@@ -227,12 +235,15 @@ struct FastLineParser::Impl {
     Recycler<Word> word_pool;
     size_t exprs_used = 0;
     size_t words_used = 0;
+    size_t exprs_have = 0;  // b->exprs.size(), kept here (the hot paths compare with it)
+    size_t words_have = 0;  // b->words.size()
 
     const char* s = nullptr;
     uint32_t n = 0;
     uint32_t base = 0;
     Block* b = nullptr;
     int depth = 0;  // bracket nesting inside an expression
+    bool plain = false;  // the last line is a plain move (simple_line)
     // Deeper lines are left to the tree-sitter front end (bounded recursion here).
     static constexpr int kMaxDepth = 64;
 
@@ -277,7 +288,7 @@ struct FastLineParser::Impl {
     // A node at the end of the arena. `op` is the operator of Unary/Binary
     // nodes; a Variable's text is set by the caller.
     OSPLINT_HOT ExprNode& new_expr(ExprKind kind, ByteRange r, char op = '\0') {
-        ExprNode& e = exprs_used < b->exprs.size() ? b->exprs[exprs_used++] : expr_pool.take(b->exprs, exprs_used);
+        ExprNode& e = exprs_used < exprs_have ? b->exprs[exprs_used++] : take_expr();
         e.kind = kind;
         if (op) set_char(e.op, op);
         else if (!e.op.empty()) e.op.clear();
@@ -288,10 +299,20 @@ struct FastLineParser::Impl {
         return e;
     }
     ExprId last_expr() const { return static_cast<ExprId>(exprs_used - 1); }
+    ExprNode& take_expr() {
+        ExprNode& e = expr_pool.take(b->exprs, exprs_used);
+        exprs_have = b->exprs.size();
+        return e;
+    }
+    Word& take_word() {
+        Word& w = word_pool.take(b->words, words_used);
+        words_have = b->words.size();
+        return w;
+    }
 
     // A word at the end of the block; the caller sets its address and value text.
     OSPLINT_HOT Word& new_word() {
-        Word& w = words_used < b->words.size() ? b->words[words_used++] : word_pool.take(b->words, words_used);
+        Word& w = words_used < words_have ? b->words[words_used++] : take_word();
         w.equals = false;
         w.value = kNoExpr;
         w.number.reset();
@@ -816,6 +837,8 @@ struct FastLineParser::Impl {
         depth = 0;
         exprs_used = 0;
         words_used = 0;
+        exprs_have = out.exprs.size();
+        words_have = out.words.size();
         out.kind = LineKind::Block;
         out.line = line.line;
         out.line_start = line.start;
@@ -828,10 +851,79 @@ struct FastLineParser::Impl {
         out.statements.clear();
         out.comments.clear();
         out.errors.clear();
-        const bool ok = parse_line();
+        plain = false;
+        bool ok = simple_line();
+        if (!ok) {
+            // Start again with the general parser.
+            out.sequence.reset();
+            exprs_used = 0;
+            words_used = 0;
+            plain = false;
+            ok = parse_line();
+        }
         word_pool.finish(out.words, words_used);
         expr_pool.finish(out.exprs, exprs_used);
         return ok;
+    }
+
+    // The shape CAM post-processors write by the million: an optional
+    // sequence number, then glued words with literal values, separated by
+    // blanks or not at all (`N120 G1 Y-40. F2500`). The same Block as
+    // parse_line (prefix: sequence; items: glued_word), built in one pass;
+    // false on anything else, and parse_line starts again. Sets `plain` when
+    // the words are all X/Y/Z/F or G0..G3 (is_plain_move_block).
+    bool simple_line() {
+        uint32_t p = 0;
+        while (p < n && is_blank(s[p])) ++p;
+        if (p >= n) return false;
+        if (s[p] == 'N' || s[p] == 'n') {
+            uint32_t e = p + 1;
+            if (e >= n || !is_digit(s[e])) return false;
+            while (e < n && is_digit(s[e])) ++e;
+            set_label(b->sequence, p, e);
+            p = e;
+        }
+        bool all_plain = true;
+        while (true) {
+            while (p < n && is_blank(s[p])) ++p;
+            if (p >= n) break;
+            const char c = upper(s[p]);
+            if (c < 'A' || c > 'Z' || c == 'N' || c == 'O' || c == 'V' || p + 1 >= n) return false;
+            uint32_t j = p + 1;
+            const char sign = (s[j] == '+' || s[j] == '-') ? s[j] : 0;
+            if (sign) ++j;
+            const uint32_t digits = j;
+            double v = 0;
+            j = scan_number(s, digits, n, v);
+            if (j == digits) return false;
+            if (j < n && !is_blank(s[j]) && !is_letter(s[j])) return false;  // `1.2.`, a comment, ...
+            Word& w = new_word();
+            set_char(w.address, c);
+            w.address_range = abs(p, p + 1);
+            w.range = abs(p, j);
+            w.value_range = abs(p + 1, j);
+            set_text(w.value_text, s + p + 1, j - p - 1);
+            ExprNode& num = new_expr(ExprKind::Number, abs(digits, j));
+            num.number = v;
+            const ExprId num_id = last_expr();
+            const double value = sign == '-' ? -v : v;
+            if (sign) {
+                ExprNode& un = new_expr(ExprKind::Unary, abs(p + 1, j), sign);
+                set_child(un.children, num_id);
+                w.value = last_expr();
+            } else {
+                w.value = num_id;
+            }
+            w.number = value;
+            switch (c) {
+                case 'X': case 'Y': case 'Z': case 'F': break;
+                case 'G': all_plain = all_plain && (value == 0 || value == 1 || value == 2 || value == 3); break;
+                default: all_plain = false; break;
+            }
+            p = j;
+        }
+        plain = all_plain && words_used > 0;
+        return true;
     }
 
     bool parse_line() {
@@ -900,6 +992,8 @@ FastLineParser::FastLineParser() : impl_(new Impl) {}
 FastLineParser::~FastLineParser() { delete impl_; }
 
 bool FastLineParser::parse_fast_only(const LineRef& line, Block& out) { return impl_->run(line, out); }
+
+bool FastLineParser::last_plain() const { return impl_->plain; }
 
 bool FastLineParser::parse(const LineRef& line, Block& out) {
     if (impl_->run(line, out)) {

@@ -53,6 +53,10 @@ public:
     // is outside the subset it recognises.
     bool parse_fast_only(const LineRef& line, Block& out);
 
+    // Whether the last line parsed is a plain move (analyzer.h:
+    // is_plain_move_block) of the simplest shape: glued literal words only. A
+    // false answer proves nothing: ask is_plain_move_block then.
+    bool last_plain() const;
     // Lines handled by each parser so far.
     uint64_t fast_lines() const { return fast_lines_; }
     uint64_t fallback_lines() const { return fallback_lines_; }

@@ -1077,6 +1077,9 @@ public:
             }
             rules_.push_back(std::move(r));
         }
+        for (auto& r : rules_)
+            if (r->sees_plain_moves()) plain_rules_.push_back(r.get());
+        plain_ok_ = plain_moves_possible(config.catalog);
         ctx_.set_lookahead([this] { lookahead(); });
         if (size_) stats_.bytes = *size_;
     }
@@ -1256,6 +1259,7 @@ private:
         const ModalState unknown;
         std::optional<ModalState> final_state;
         bool reachable = true;
+        bool near = false;  // A and B differ at most in the fields a plain move sets
         bool last_falls_through = false;  // the last block reachable and falling through
         bool has_content = false;
         uint32_t index = start_index;
@@ -1289,10 +1293,31 @@ private:
             if (!subprogram && b.statement(StmtKind::Rts)) return restart(false, true);
             if (b.kind == LineKind::Block && !b.is_empty()) has_content = true;
 
-            if (reachable) {
+            if (reachable && plain_ok_ && (parser_.last_plain() || is_plain_move_block(b)) && plain_move_state(*A)) {
+                // A plain move (analyzer.h). A and B differ at most in what a
+                // plain move sets when `near` is true, so those fields make B
+                // equal to A again.
+                if (near) {
+                    B->motion = A->motion;
+                    B->feed = A->feed;
+                    B->x = A->x;
+                    B->y = A->y;
+                    B->z = A->z;
+                } else {
+                    *B = *A;
+                }
+                apply_plain_move(b, *B);
+                const BlockView view{b, *A, *B, nullptr, true};
+                for (Rule* r : plain_rules_) r->check_block(ctx_, view);
+                if (ctx_.label_missed()) return restart(true, false);
+                std::swap(A, B);
+                near = true;
+                last_falls_through = true;
+            } else if (reachable) {
                 std::optional<MacroCall> call = resolve_call(b, *A, catalog);
                 *B = *A;
                 apply_block(b, call ? &*call : nullptr, catalog, *B);
+                near = false;
                 const BlockView view{b, *A, *B, call ? &*call : nullptr, true};
                 for (auto& r : rules_) r->check_block(ctx_, view);
                 if (ctx_.label_missed()) return restart(true, false);
@@ -1476,6 +1501,8 @@ private:
     Suppressions suppressions_;
     FastLineParser parser_;
     std::vector<std::unique_ptr<Rule>> rules_;
+    std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
+    bool plain_ok_ = true;            // plain_moves_possible with this catalog
     Block block_;
     ModalState state_a_, state_b_;
 

@@ -44,8 +44,8 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Config& config = ctx.config();
-        std::optional<Envelope> env = cycle_envelope(v, config);
         if (config.travel.empty()) return;
+        std::optional<Envelope> env = cycle_envelope(v, config);
         if (!env) {
             for (const auto& t : positioning_violations(v.block, v.before, v.after, v.call, config)) {
                 ByteRange where = v.block.range;

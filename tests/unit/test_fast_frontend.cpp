@@ -23,12 +23,15 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "analyzer.h"
+#include "config.h"
 #include "frontend.h"
 #include "frontend_fast.h"
 #include "osplint/osplint.h"
@@ -557,4 +560,126 @@ TEST_CASE("streaming check: randomly mutated corpus programs") {
         ++compared;
     }
     MESSAGE(compared << " mutated programs checked both ways");
+}
+
+// ------------------------------------------------------------- plain moves
+
+namespace {
+
+// Programs made mostly of plain moves (analyzer.h) in every modal state the
+// streaming check treats differently: before and after G114/M204 and G80
+// (spindle stopped), in and out of fixed cycles and MODIN, under G90 and G91,
+// with sequence names (some repeated), moves beyond the travel limits, block
+// delete, comments and shapes that are almost plain.
+std::string plain_move_program(std::mt19937& rng) {
+    auto pick = [&](std::initializer_list<std::string> options) {
+        auto it = options.begin();
+        std::advance(it, rng() % options.size());
+        return *it;
+    };
+    auto coord = [&] {
+        const int v = static_cast<int>(rng() % 900000) - 450000;
+        return (v < 0 ? "-" : "") + std::to_string(std::abs(v) / 1000) + "." + std::to_string(std::abs(v) % 1000);
+    };
+    std::string out = "O" + pick({"1000", "2000", "TEST"}) + "\n";
+    const int blocks = 20 + static_cast<int>(rng() % 80);
+    for (int i = 0; i < blocks; ++i) {
+        std::string b;
+        if (rng() % 6 == 0) b += "N" + std::to_string(1 + rng() % 30) + pick({" ", ""});
+        switch (rng() % 24) {
+            case 0: b += "G114 R10. Z-21.5 P.7 F1200 FA=1320"; break;
+            case 1: b += "M204"; break;
+            case 2: b += "G80"; break;
+            case 3: b += pick({"M3", "M4", "M5", "S1000 M3"}); break;
+            case 4: b += pick({"G90", "G91", "G17", "G18", "G20", "G21"}); break;
+            case 5: b += "G81 Z" + coord() + " R3. F200"; break;
+            case 6: b += "MODIN OKYOY PR=2. PZ=-4. PI=20. PJ=8. PD=15 PF=250"; break;
+            case 7: b += "MODOUT"; break;
+            case 8: b += "CALL OZAGR PX=" + coord() + " PR=2. PZ=-5."; break;
+            case 9: b += pick({"G56 Z50. H1", "G15 H1", "G53", "NCYL X1.", "G60 X2.", "VC1=" + coord()}); break;
+            case 10: b += pick({"X=VC1", "/X" + coord(), "X" + coord() + " (MOVE)", "x" + coord() + " y" + coord(),
+                                "G1 X" + coord() + " S500", "G4 X1.", "G02 X1 I2", "G01X1.Y2.Z3.", "X1.2.3",
+                                "G1.5 X1", "G+1 X" + coord(), "G-1 X1", "M8 X1"});
+                break;
+            default:
+                b += pick({"", "", "G0 ", "G1 ", "G2 ", "G3 ", "G01 ", "G00 "});
+                for (const char* a : {"X", "Y", "Z"})
+                    if (rng() % 3) b += std::string(a) + coord() + pick({" ", "", "  ", "\t"});
+                if (rng() % 4 == 0) b += "F" + std::to_string(100 + rng() % 3000);
+                if (b.empty() || b.back() == ' ') b += "Z" + coord();
+                break;
+        }
+        out += b + "\n";
+    }
+    out += pick({"M30", "G0 Z100.", "M02"}) + "\n";
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("plain moves: apply_plain_move is apply_block on them") {
+    std::mt19937 rng(4242);
+    FastLineParser parser;
+    Block b;
+    Config config;
+    int plain = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const std::string text = plain_move_program(rng);
+        size_t start = 0;
+        uint32_t line = 1;
+        while (start < text.size()) {
+            const size_t end = text.find('\n', start);
+            const LineRef l{std::string_view(text).substr(start, end - start), "\n", line++,
+                            static_cast<uint32_t>(start)};
+            start = end + 1;
+            parser.parse(l, b);
+            const bool is_plain = is_plain_move_block(b);
+            // The parser's answer is never wrong when it says yes.
+            if (parser.last_plain()) CHECK_MESSAGE(is_plain, l.text);
+            if (!is_plain) continue;
+            ++plain;
+            ModalState s = initial_state(config, rng() % 4 == 0);
+            s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
+            s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
+            switch (rng() % 3) {
+                case 0: s.distance = Val<Distance>::of(Distance::Absolute); break;
+                case 1: s.distance = Val<Distance>::of(Distance::Incremental); break;
+                default: s.distance = {}; break;
+            }
+            if (rng() % 2) s.x = Val<double>::of(static_cast<double>(rng() % 100));
+            if (rng() % 2) s.z = Val<double>::of(-static_cast<double>(rng() % 100));
+            if (rng() % 2) s.motion = Val<int>::of(60);
+            REQUIRE(plain_move_state(s));
+            ModalState full = s, fast = s;
+            apply_block(b, nullptr, config.catalog, full);
+            apply_plain_move(b, fast);
+            CHECK_MESSAGE(full == fast, l.text);
+            CHECK_FALSE(resolve_call(b, s, config.catalog).has_value());
+        }
+    }
+    CHECK(plain > 10000);
+}
+
+TEST_CASE("streaming check: plain moves in every modal state give check_text's result") {
+    Config config;
+    config.travel['X'] = TravelLimit{-300, 300};
+    config.travel['Y'] = TravelLimit{-200, 200};
+    config.travel['Z'] = TravelLimit{-300, 100};
+    std::mt19937 rng(777);
+    std::map<std::string, int> seen;
+    for (int i = 0; i < 400; ++i) {
+        const std::string text = plain_move_program(rng);
+        compare_checks("plain" + std::to_string(i) + ".min", text, config);
+        for (const auto& d : check_text("p.min", text, config).diagnostics) ++seen[d.rule];
+    }
+    // The rules that look at plain moves had findings to compare.
+    for (const char* id : {"OSP003", "OSP212", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
+}
+
+TEST_CASE("plain moves: a G0..G3 registered as a macro turns the shortcut off") {
+    Config config;
+    CHECK(plain_moves_possible(config.catalog));
+    Config shop = parse_config("[macros.gcode]\nG1 = \"OZAGR\"\n", "osplint.toml");
+    CHECK_FALSE(plain_moves_possible(shop.catalog));
+    compare_checks("shop.min", "O1\nG0 X0 Y0 Z50.\nG1 X10. PR=2. PZ=-5.\nX20.\nM30\n", shop);
 }
