@@ -694,10 +694,6 @@ bool is_plain_move_block(const Block& b) {
     return true;
 }
 
-bool plain_move_state(const ModalState& s) {
-    return s.cycle.known && !s.cycle.value && s.modin.known && !s.modin.value;
-}
-
 bool plain_moves_possible(const Catalog& catalog) {
     for (const char* code : {"G0", "G1", "G2", "G3"})
         if (catalog.find_by_code(code)) return false;

@@ -61,7 +61,9 @@ void apply_block(const Block& block, const MacroCall* call, const Catalog& catal
 // the feed and the positions: `apply_plain_move` does just that, and the batch
 // path calls only the rules that look at such blocks (Rule::sees_plain_moves).
 bool is_plain_move_block(const Block& block);
-bool plain_move_state(const ModalState& before);
+inline bool plain_move_state(const ModalState& s) {
+    return s.cycle.known && !s.cycle.value && s.modin.known && !s.modin.value;
+}
 bool plain_moves_possible(const Catalog& catalog);
 // apply_block(block, nullptr, catalog, state) for a plain move in a plain-move state.
 void apply_plain_move(const Block& block, ModalState& state);

@@ -8,6 +8,8 @@
 // model, it gives up and the line goes to the tree-sitter front end.
 #include "frontend_fast.h"
 
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cstring>
 #include <limits>
@@ -32,6 +34,23 @@ inline bool is_digit(char c) { return c >= '0' && c <= '9'; }
 inline bool is_alnum(char c) { return is_letter(c) || is_digit(c); }
 inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
 inline char upper(char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; }
+
+// Character classes of simple_line.
+constexpr uint8_t kBlankClass = 1;   // blank: space, tab, form feed, vertical tab (is_blank)
+constexpr uint8_t kDigitClass = 2;   // 0-9
+constexpr uint8_t kLetterClass = 4;  // A-Z, a-z
+constexpr uint8_t kWordClass = 8;    // a letter that starts a glued word: not N, O or V (is_glued_word)
+constexpr auto kClass = [] {
+    std::array<uint8_t, 256> t{};
+    for (int c : {' ', '\t', '\f', '\v'}) t[static_cast<unsigned char>(c)] = kBlankClass;
+    for (int c = '0'; c <= '9'; ++c) t[static_cast<unsigned char>(c)] = kDigitClass;
+    for (int c = 'A'; c <= 'Z'; ++c) {
+        const bool word = c != 'N' && c != 'O' && c != 'V';
+        t[static_cast<unsigned char>(c)] = t[static_cast<unsigned char>(c - 'A' + 'a')] =
+            static_cast<uint8_t>(kLetterClass | (word ? kWordClass : 0));
+    }
+    return t;
+}();
 
 constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                              1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
@@ -873,54 +892,66 @@ struct FastLineParser::Impl {
     // false on anything else, and parse_line starts again. Sets `plain` when
     // the words are all X/Y/Z/F or G0..G3 (is_plain_move_block).
     bool simple_line() {
-        uint32_t p = 0;
-        while (p < n && is_blank(s[p])) ++p;
-        if (p >= n) return false;
-        if (s[p] == 'N' || s[p] == 'n') {
-            uint32_t e = p + 1;
-            if (e >= n || !is_digit(s[e])) return false;
-            while (e < n && is_digit(s[e])) ++e;
-            set_label(b->sequence, p, e);
-            p = e;
+        const char* q = s;
+        const char* const e = s + n;
+        while (q < e && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
+        if (q == e) return false;
+        if (*q == 'N' || *q == 'n') {
+            const char* t = q + 1;
+            if (t == e || !(kClass[static_cast<unsigned char>(*t)] & kDigitClass)) return false;
+            while (t < e && (kClass[static_cast<unsigned char>(*t)] & kDigitClass)) ++t;
+            set_label(b->sequence, static_cast<uint32_t>(q - s), static_cast<uint32_t>(t - s));
+            q = t;
         }
         bool all_plain = true;
         while (true) {
-            while (p < n && is_blank(s[p])) ++p;
-            if (p >= n) break;
-            const char c = upper(s[p]);
-            if (c < 'A' || c > 'Z' || c == 'N' || c == 'O' || c == 'V' || p + 1 >= n) return false;
-            uint32_t j = p + 1;
-            const char sign = (s[j] == '+' || s[j] == '-') ? s[j] : 0;
-            if (sign) ++j;
-            const uint32_t digits = j;
-            double v = 0;
-            j = scan_number(s, digits, n, v);
-            if (j == digits) return false;
-            if (j < n && !is_blank(s[j]) && !is_letter(s[j])) return false;  // `1.2.`, a comment, ...
+            while (q < e && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
+            if (q == e) break;
+            if (!(kClass[static_cast<unsigned char>(*q)] & kWordClass) || q + 1 == e) return false;
+            const char c = upper(*q);
+            const char* t = q + 1;
+            const char sign = (*t == '+' || *t == '-') ? *t : 0;
+            if (sign) ++t;
+            // The number: digits, then a point and digits (`12`, `3.`, `.5`).
+            const char* const digits = t;
+            uint64_t m = 0;
+            while (t < e && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
+            size_t count = static_cast<size_t>(t - digits);
+            size_t fraction = 0;
+            if (t < e && *t == '.') {
+                const char* const f = ++t;
+                while (t < e && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
+                fraction = static_cast<size_t>(t - f);
+                count += fraction;
+            }
+            if (count == 0) return false;
+            if (t < e && !(kClass[static_cast<unsigned char>(*t)] & (kBlankClass | kLetterClass))) return false;
+            // At most 15 digits: the exact path of scan_number; else decimal_value.
+            const double v = count <= 15 ? (fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m))
+                                         : decimal_value(std::string_view(digits, static_cast<size_t>(t - digits)));
+            const uint32_t p = static_cast<uint32_t>(q - s);
+            const uint32_t j = static_cast<uint32_t>(t - s);
             Word& w = new_word();
             set_char(w.address, c);
             w.address_range = abs(p, p + 1);
             w.range = abs(p, j);
             w.value_range = abs(p + 1, j);
-            set_text(w.value_text, s + p + 1, j - p - 1);
-            ExprNode& num = new_expr(ExprKind::Number, abs(digits, j));
+            set_text(w.value_text, q + 1, j - p - 1);
+            ExprNode& num = new_expr(ExprKind::Number, abs(static_cast<uint32_t>(digits - s), j));
             num.number = v;
             const ExprId num_id = last_expr();
-            const double value = sign == '-' ? -v : v;
             if (sign) {
                 ExprNode& un = new_expr(ExprKind::Unary, abs(p + 1, j), sign);
                 set_child(un.children, num_id);
                 w.value = last_expr();
+                w.number = sign == '-' ? -v : v;
             } else {
                 w.value = num_id;
+                w.number = v;
             }
-            w.number = value;
-            switch (c) {
-                case 'X': case 'Y': case 'Z': case 'F': break;
-                case 'G': all_plain = all_plain && (value == 0 || value == 1 || value == 2 || value == 3); break;
-                default: all_plain = false; break;
-            }
-            p = j;
+            if (c == 'G') all_plain = all_plain && (v == 0 || v == 1 || v == 2 || v == 3) && sign != '-';
+            else if (c != 'X' && c != 'Y' && c != 'Z' && c != 'F') all_plain = false;
+            q = t;
         }
         plain = all_plain && words_used > 0;
         return true;
@@ -991,12 +1022,16 @@ struct FastLineParser::Impl {
 FastLineParser::FastLineParser() : impl_(new Impl) {}
 FastLineParser::~FastLineParser() { delete impl_; }
 
-bool FastLineParser::parse_fast_only(const LineRef& line, Block& out) { return impl_->run(line, out); }
-
-bool FastLineParser::last_plain() const { return impl_->plain; }
+bool FastLineParser::parse_fast_only(const LineRef& line, Block& out) {
+    const bool ok = impl_->run(line, out);
+    last_plain_ = ok && impl_->plain;
+    return ok;
+}
 
 bool FastLineParser::parse(const LineRef& line, Block& out) {
-    if (impl_->run(line, out)) {
+    const bool ok = impl_->run(line, out);
+    last_plain_ = ok && impl_->plain;
+    if (ok) {
         ++fast_lines_;
         return true;
     }

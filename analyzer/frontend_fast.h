@@ -56,7 +56,7 @@ public:
     // Whether the last line parsed is a plain move (analyzer.h:
     // is_plain_move_block) of the simplest shape: glued literal words only. A
     // false answer proves nothing: ask is_plain_move_block then.
-    bool last_plain() const;
+    bool last_plain() const { return last_plain_; }
     // Lines handled by each parser so far.
     uint64_t fast_lines() const { return fast_lines_; }
     uint64_t fallback_lines() const { return fallback_lines_; }
@@ -65,6 +65,7 @@ private:
     struct Impl;
     Impl* impl_;
     uint64_t fast_lines_ = 0;
+    bool last_plain_ = false;
     uint64_t fallback_lines_ = 0;
 };
 

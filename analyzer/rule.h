@@ -109,10 +109,11 @@ public:
     virtual void begin_program(RuleContext&, const ProgramView&) {}
     virtual void check_block(RuleContext&, const BlockView&) {}
     // Whether check_block may do anything (report, or remember something) on a
-    // plain move (analyzer.h: is_plain_move_block in a plain_move_state). Rules
-    // that return false are not called for such blocks by the streaming check;
-    // the differential tests hold it to the same findings as the full analysis.
-    virtual bool sees_plain_moves() const { return true; }
+    // plain move (analyzer.h: is_plain_move_block in a plain_move_state) under
+    // this configuration. Rules that return false are not called for such
+    // blocks by the streaming check; the differential tests hold it to the
+    // same findings as the full analysis.
+    virtual bool sees_plain_moves(const Config&) const { return true; }
     virtual void end_program(RuleContext&, const ProgramView&) {}
 };
 

@@ -34,6 +34,10 @@
 #include <unordered_map>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <fmt/format.h>
 
 #include "catalog.h"
@@ -150,6 +154,22 @@ private:
     std::vector<char> chunk_;
 };
 
+// The first LF or CR in [p, e), or nullptr.
+inline const char* find_break(const char* p, const char* e) {
+#if defined(__SSE2__)
+    const __m128i lf = _mm_set1_epi8('\n');
+    const __m128i cr = _mm_set1_epi8('\r');
+    for (; e - p >= 16; p += 16) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+        const int hits = _mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(v, lf), _mm_cmpeq_epi8(v, cr)));
+        if (hits) return p + __builtin_ctz(static_cast<unsigned>(hits));
+    }
+#endif
+    for (; p < e; ++p)
+        if (*p == '\n' || *p == '\r') return p;
+    return nullptr;
+}
+
 // Lines of a ByteSource (the lines SourceText makes: terminators LF, CRLF and
 // a lone CR). A LineRef stays valid until the next call of next() or seek().
 class LineStream {
@@ -172,9 +192,9 @@ public:
         while (true) {
             const char* p = buf_.data() + pos_;
             const size_t avail = end_ - pos_;
-            const void* lf = avail ? std::memchr(p, '\n', avail) : nullptr;
-            const size_t upto = lf ? static_cast<size_t>(static_cast<const char*>(lf) - p) : avail;
-            const char* cr = upto ? static_cast<const char*>(std::memchr(p, '\r', upto)) : nullptr;
+            const char* brk = find_break(p, p + avail);
+            const char* lf = brk && *brk == '\n' ? brk : nullptr;
+            const char* cr = brk && *brk == '\r' ? brk : nullptr;
             size_t text_len = 0, term_len = 0;
             bool found = false;
             if (cr) {
@@ -187,7 +207,7 @@ public:
                     found = true;
                 }
             } else if (lf) {
-                text_len = upto;
+                text_len = static_cast<size_t>(lf - p);
                 term_len = 1;
                 found = true;
             } else if (eof_) {
@@ -271,9 +291,9 @@ struct Window {
         text = std::string_view(l.text.data(), l.text.size() + l.terminator.size());
         base = l.start;
         first_line = l.line;
-        starts.clear();
-        starts.push_back(0);
-        if (!l.terminator.empty()) starts.push_back(static_cast<uint32_t>(text.size()));
+        starts.resize(l.terminator.empty() ? 1 : 2);
+        starts[0] = 0;
+        if (!l.terminator.empty()) starts[1] = static_cast<uint32_t>(text.size());
     }
     bool empty() const { return starts.empty(); }
     bool contains(uint32_t offset) const {
@@ -1078,7 +1098,7 @@ public:
             rules_.push_back(std::move(r));
         }
         for (auto& r : rules_)
-            if (r->sees_plain_moves()) plain_rules_.push_back(r.get());
+            if (r->sees_plain_moves(config)) plain_rules_.push_back(r.get());
         plain_ok_ = plain_moves_possible(config.catalog);
         ctx_.set_lookahead([this] { lookahead(); });
         if (size_) stats_.bytes = *size_;
@@ -1289,11 +1309,15 @@ private:
                 speculative_name = false;
                 if (first_name_) return restart(false, false);  // the program has a name after all
             }
-            if (has_flow_statement(b)) return restart(true, false);
-            if (!subprogram && b.statement(StmtKind::Rts)) return restart(false, true);
-            if (b.kind == LineKind::Block && !b.is_empty()) has_content = true;
+            // (A plain move from the parser has no statement and is not empty.)
+            const bool plain_line = parser_.last_plain();
+            if (!plain_line) {
+                if (has_flow_statement(b)) return restart(true, false);
+                if (!subprogram && b.statement(StmtKind::Rts)) return restart(false, true);
+            }
+            if (plain_line || (b.kind == LineKind::Block && !b.is_empty())) has_content = true;
 
-            if (reachable && plain_ok_ && (parser_.last_plain() || is_plain_move_block(b)) && plain_move_state(*A)) {
+            if (reachable && plain_ok_ && (plain_line || is_plain_move_block(b)) && plain_move_state(*A)) {
                 // A plain move (analyzer.h). A and B differ at most in what a
                 // plain move sets when `near` is true, so those fields make B
                 // equal to A again.

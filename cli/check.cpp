@@ -180,6 +180,10 @@ int run_check(const CheckOptions& o) {
     bool have_stdin = false;
     ProgramNames names;
     std::map<std::string, bool> scanned_dirs;
+    // A file checked alone needs no pass of its own: the names it defines
+    // matter to the other checked files, and the check finds its own names
+    // as it reads (for a 100 MB program, that pass is a tenth of the time).
+    const bool alone = files.size() == 1;
     for (const auto& f : files) {
         fs::path dir = dir_of(f);
         if (!scanned_dirs[dir.string()]) {
@@ -201,11 +205,12 @@ int run_check(const CheckOptions& o) {
                 if (stdin_fd < 0) errors.push_back(stdin_name + ": " + error);
                 have_stdin = true;
             }
-            if (stdin_fd >= 0) collect_program_names_fd(stdin_fd, names);
+            if (stdin_fd >= 0 && !alone) collect_program_names_fd(stdin_fd, names);
             continue;
         }
         std::error_code ec;
-        if (fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32)) collect_program_names_file(f, names);
+        if (!alone && fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32))
+            collect_program_names_file(f, names);
     }
 
     AnalysisOptions options;

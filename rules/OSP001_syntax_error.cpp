@@ -10,7 +10,7 @@ constexpr RuleMeta kMeta{"OSP001", "syntax-error", Severity::Error,
 class SyntaxErrorRule final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         for (const auto& e : v.block.errors) ctx.report(kMeta, e.range, e.message);
     }

@@ -11,7 +11,7 @@ constexpr RuleMeta kMeta{"OSP002", "undefined-jump-target", Severity::Error,
 class UndefinedJumpTarget final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         for (const auto& st : v.block.statements) {
             if (st.kind != StmtKind::Goto && st.kind != StmtKind::If) continue;

@@ -31,7 +31,8 @@ public:
             anchor_ = b.program_name ? b.program_name->range : b.range;
         if (b.statement(StmtKind::Rts)) has_rts_ = true;
         for (const auto& w : b.words)
-            if (w.address == "M" && w.number && (*w.number == 2 || *w.number == 30)) has_end_ = true;
+            if (w.address.size() == 1 && w.address[0] == 'M' && w.number && (*w.number == 2 || *w.number == 30))
+                has_end_ = true;
     }
     void end_program(RuleContext& ctx, const ProgramView& p) override {
         if (!anchor_) return;  // nothing but comments and tape marks

@@ -10,7 +10,7 @@ constexpr RuleMeta kMeta{"OSP005", "unknown-subprogram", Severity::Info,
 class UnknownSubprogram final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (!c || (c->kind != CallKind::Call && c->kind != CallKind::Modin)) return;

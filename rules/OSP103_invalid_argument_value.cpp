@@ -113,7 +113,7 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
 class InvalidArgumentValue final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         std::optional<Plane> plane;
         if (v.before.plane.known) plane = v.before.plane.value;

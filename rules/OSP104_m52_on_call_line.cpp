@@ -10,7 +10,7 @@ constexpr RuleMeta kMeta{"OSP104", "m52-on-call-line", Severity::Error,
 class M52OnCallLine final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

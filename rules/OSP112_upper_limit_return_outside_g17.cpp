@@ -20,7 +20,7 @@ const ActionStep* g17_only_return(const MacroSpec& s) {
 class UpperLimitReturnOutsideG17 final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -21,7 +21,7 @@ std::string forbidding_source(const MacroSpec& s) {
 class G60WithNcyl final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override {
         pending_.clear();

@@ -34,7 +34,7 @@ struct Clobber {
 class ReservedCommonVariable final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override {
         uses_.clear();

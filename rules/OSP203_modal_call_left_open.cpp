@@ -14,7 +14,7 @@ constexpr RuleMeta kMeta{"OSP203", "modal-call-left-open", Severity::Warning,
 class ModalCallLeftOpen final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { modins_.clear(); }
 

@@ -27,7 +27,7 @@ std::string cancel_hint(const RuleContext& ctx, const ActiveCycle& c) {
 class FixedCycleNotCancelled final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { end_block_.reset(); }
 

@@ -21,7 +21,7 @@ bool reversed_cycle(int code) { return code == 79 || code == 87; }
 class CyclePointOrder final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { last_.reset(); }
 

@@ -27,7 +27,7 @@ const Word* g_word(const Block& b, double code) {
 class TappingWithG99 final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || !v.after.cycle_return.is(CycleReturn::R) || !tapper_cycle(ctx, *c)) return;

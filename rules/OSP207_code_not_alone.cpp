@@ -12,7 +12,7 @@ constexpr RuleMeta kMeta{"OSP207", "code-not-alone", Severity::Error,
 class CodeNotAlone final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         for (const auto& w : b.words) {

@@ -13,7 +13,7 @@ constexpr RuleMeta kMeta{"OSP208", "g114-cancelled-by-g80", Severity::Warning,
 class G114CancelledByG80 final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.before);
         if (!c || c->macro.empty()) return;

@@ -20,7 +20,7 @@ constexpr RuleMeta kMeta{"OSP209", "repeat-count-in-g90", Severity::Warning,
 class RepeatCountInG90 final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || !c->macro.empty() || v.block.has_code("G", 80)) return;

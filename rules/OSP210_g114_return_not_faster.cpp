@@ -13,7 +13,7 @@ constexpr RuleMeta kMeta{"OSP210", "g114-return-not-faster", Severity::Warning,
 class G114ReturnNotFaster final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (!c || c->kind != CallKind::GCode || !c->spec || c->spec->cancel.empty() || !c->spec->tapping) return;

@@ -23,6 +23,9 @@ bool positions_hole(const Block& b) {
 class G114DeclarationNotTapped final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A pending declaration is settled on the block that ends its cycle, so
+    // none is pending when a plain move runs (no cycle is modal then).
+    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { pending_.reset(); }
 

@@ -10,7 +10,7 @@ constexpr RuleMeta kMeta{"OSP213", "g82-without-dwell", Severity::Warning,
 class G82WithoutDwell final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 82 || !c->macro.empty() || c->start_line != v.block.line) return;

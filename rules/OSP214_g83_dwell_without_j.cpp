@@ -10,7 +10,7 @@ constexpr RuleMeta kMeta{"OSP214", "g83-dwell-without-j", Severity::Warning,
 class G83DwellWithoutJ final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 83 || !c->macro.empty() || v.block.has_code("G", 80)) return;

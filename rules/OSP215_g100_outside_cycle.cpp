@@ -10,7 +10,7 @@ constexpr RuleMeta kMeta{"OSP215", "g100-outside-cycle", Severity::Warning,
 class G100OutsideCycle final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Word* g100 = nullptr;
         for (const auto& w : v.block.words)

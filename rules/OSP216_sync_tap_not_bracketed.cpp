@@ -13,7 +13,7 @@ constexpr RuleMeta kMeta{"OSP216", "sync-tap-not-bracketed", Severity::Warning,
 class SyncTapNotBracketed final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { last_m843_.reset(); }
 

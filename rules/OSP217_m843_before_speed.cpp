@@ -10,7 +10,7 @@ constexpr RuleMeta kMeta{"OSP217", "m843-before-speed", Severity::Warning,
 class M843BeforeSpeed final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (!v.after.speed_commanded.is(false)) return;  // an S on the same block counts
         for (const auto& w : v.block.words) {

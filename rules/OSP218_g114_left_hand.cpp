@@ -12,7 +12,7 @@ constexpr RuleMeta kMeta{"OSP218", "g114-left-hand", Severity::Warning,
 class G114LeftHand final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->macro.empty() || !v.after.spindle.is(4) || v.block.has_code("G", 80)) return;

@@ -23,7 +23,7 @@ bool is_plane_axis_name(std::string_view n) { return n == "X" || n == "Y" || n =
 class CycleMissingAddress final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         // Only a cycle started afresh: after G80 (or at the program start) no

@@ -11,7 +11,7 @@ constexpr RuleMeta kMeta{"OSP220", "g88-shift-from-parameters", Severity::Warnin
 class G88ShiftFromParameters final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 88 || !c->macro.empty() || c->start_line != v.block.line) return;

@@ -42,6 +42,8 @@ ByteRange where_for(const BlockView& v, const Envelope& env, const MotionPoint& 
 class CycleAxisOutOfTravel final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // Plain moves are checked against the travel limits, when there are any.
+    bool sees_plain_moves(const Config& config) const override { return !config.travel.empty(); }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Config& config = ctx.config();
         if (config.travel.empty()) return;

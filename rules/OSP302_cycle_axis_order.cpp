@@ -88,7 +88,7 @@ bool is_point(const std::string& text, const MacroSpec& spec) {
 class CycleAxisOrder final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void begin_program(RuleContext&, const ProgramView&) override { reported_.clear(); }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;

@@ -49,7 +49,7 @@ void report_unbounded_envelope(RuleContext& ctx, const BlockView& v, const Envel
 class CycleAxisUnbounded final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         std::optional<Envelope> env = cycle_envelope(v, ctx.config());
         if (!env || !v.reachable || env->bounded()) return;

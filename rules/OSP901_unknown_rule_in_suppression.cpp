@@ -15,7 +15,7 @@ constexpr RuleMeta kMeta{"OSP901", "unknown-rule-in-suppression", Severity::Warn
 class UnknownRuleInSuppression final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 };
 
 }  // namespace

@@ -14,7 +14,7 @@ constexpr RuleMeta kMeta{"OSP902", "unused-suppression", Severity::Info,
 class UnusedSuppression final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves() const override { return false; }
+    bool sees_plain_moves(const Config&) const override { return false; }
 };
 
 }  // namespace
