@@ -184,6 +184,7 @@ int run_check(const CheckOptions& o) {
     // matter to the other checked files, and the check finds its own names
     // as it reads (for a 100 MB program, that pass is a tenth of the time).
     const bool alone = files.size() == 1;
+    std::vector<std::string> to_scan;
     for (const auto& f : files) {
         fs::path dir = dir_of(f);
         if (!scanned_dirs[dir.string()]) {
@@ -209,8 +210,25 @@ int run_check(const CheckOptions& o) {
             continue;
         }
         std::error_code ec;
-        if (!alone && fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32))
-            collect_program_names_file(f, names);
+        if (!alone && fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32)) to_scan.push_back(f);
+    }
+    // The checked files' own names, read by as many threads as the check uses.
+    {
+        const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+        const size_t n = std::min<size_t>(o.jobs ? o.jobs : cores, to_scan.size());
+        std::vector<ProgramNames> found(n);
+        std::atomic<size_t> next{0};
+        auto scan = [&](size_t k) {
+            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) collect_program_names_file(to_scan[i], found[k]);
+        };
+        if (n <= 1) {
+            if (n == 1) scan(0);
+        } else {
+            std::vector<std::thread> pool;
+            for (size_t k = 0; k < n; ++k) pool.emplace_back(scan, k);
+            for (auto& t : pool) t.join();
+        }
+        for (auto& f : found) names.merge(f);
     }
 
     AnalysisOptions options;
