@@ -114,7 +114,18 @@ public:
     // blocks by the streaming check; the differential tests hold it to the
     // same findings as the full analysis.
     virtual bool sees_plain_moves(const Config&) const { return true; }
+    // A rule that sees plain moves may say, from what it has seen so far, that
+    // the plain moves to come do not matter to it until its next call for
+    // another block (OSP004 once it knows where the program's content starts).
+    // Plain moves with a sequence name reach it regardless.
+    bool wants_plain_moves() const { return wants_plain_moves_; }
     virtual void end_program(RuleContext&, const ProgramView&) {}
+
+protected:
+    void set_wants_plain_moves(bool wanted) { wants_plain_moves_ = wanted; }
+
+private:
+    bool wants_plain_moves_ = true;
 };
 
 }  // namespace osplint

@@ -1332,7 +1332,8 @@ private:
                 }
                 apply_plain_move(b, *B);
                 const BlockView view{b, *A, *B, nullptr, true};
-                for (Rule* r : plain_rules_) r->check_block(ctx_, view);
+                for (Rule* r : plain_rules_)
+                    if (r->wants_plain_moves() || b.sequence) r->check_block(ctx_, view);
                 if (ctx_.label_missed()) return restart(true, false);
                 std::swap(A, B);
                 near = true;

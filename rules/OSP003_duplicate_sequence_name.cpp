@@ -12,7 +12,10 @@ constexpr RuleMeta kMeta{"OSP003", "duplicate-sequence-name", Severity::Warning,
 class DuplicateSequenceName final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    void begin_program(RuleContext&, const ProgramView&) override { first_.clear(); }
+    void begin_program(RuleContext&, const ProgramView&) override {
+        first_.clear();
+        set_wants_plain_moves(false);  // only those with a sequence name, which come anyway
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (!v.block.sequence) return;
         const Label& l = *v.block.sequence;

@@ -24,6 +24,7 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override {
         has_end_ = has_rts_ = false;
         anchor_.reset();
+        set_wants_plain_moves(true);
     }
     void check_block(RuleContext&, const BlockView& v) override {
         const Block& b = v.block;
@@ -33,6 +34,9 @@ public:
         for (const auto& w : b.words)
             if (w.address.size() == 1 && w.address[0] == 'M' && w.number && (*w.number == 2 || *w.number == 30))
                 has_end_ = true;
+        // A plain move has neither M02/M30 nor RTS: once the anchor is known,
+        // plain moves do not matter here.
+        set_wants_plain_moves(!anchor_);
     }
     void end_program(RuleContext& ctx, const ProgramView& p) override {
         if (!anchor_) return;  // nothing but comments and tape marks

@@ -30,10 +30,15 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override {
         stops_.clear();
         reported_.clear();
+        set_wants_plain_moves(true);
     }
 
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
+        // A plain move leaves the spindle as it is: only while it is stopped by
+        // the end of a G114 mode can one be a cut to report.
+        set_wants_plain_moves(v.after.spindle.is(5) && v.after.spindle_stopped_by.known &&
+                              v.after.spindle_stopped_by.value != 0);
         if (v.after.spindle_stopped_by.is(b.line) && b.line != 0) stops_[b.line] = b.range;
         if (!v.after.spindle.is(5) || !v.after.spindle_stopped_by.known || v.after.spindle_stopped_by.value == 0)
             return;
