@@ -1,5 +1,10 @@
 // OSP003 duplicate-sequence-name: a sequence name defined twice in one program.
+#include <array>
+#include <cstdint>
 #include <map>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "analyzer/rule.h"
 
@@ -9,26 +14,77 @@ namespace {
 constexpr RuleMeta kMeta{"OSP003", "duplicate-sequence-name", Severity::Warning,
                          "A sequence name is defined twice in one program"};
 
+// The first definition of each name is kept, for the note, for the first
+// kKeepFirst names of a program. Beyond that, names of the form N<digits>
+// with up to kMaxDigits digits are kept in one bitmap per digit count, so
+// that a posted program with a sequence number on each of millions of blocks
+// is checked in bounded memory (at most 12.5 MB for the eight-digit names):
+// their duplicates are still reported, without the first definition's place.
+constexpr size_t kKeepFirst = 100000;
+constexpr size_t kMaxDigits = 8;
+
 class DuplicateSequenceName final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     void begin_program(RuleContext&, const ProgramView&) override {
         first_.clear();
+        for (auto& b : seen_) b.clear();
         set_wants_plain_moves(false);  // only those with a sequence name, which come anyway
     }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (!v.block.sequence) return;
         const Label& l = *v.block.sequence;
-        auto [it, inserted] = first_.emplace(l.name, l.range);
-        if (inserted) return;
-        auto& d = ctx.report(kMeta, l.range,
-                             "sequence name " + l.name + " is already defined in this program: a GOTO or IF to it "
-                             "may land on the other block");
-        d.notes.push_back({"first defined here", ctx.resolve(it->second)});
+        if (auto it = first_.find(l.name); it != first_.end()) {
+            report(ctx, l, ctx.resolve(it->second));
+            return;
+        }
+        if (first_.size() < kKeepFirst || !set_bit(l.name)) {
+            if (first_.size() < kKeepFirst || !numeric(l.name)) first_.emplace(l.name, l.range);
+            return;
+        }
+        report(ctx, l, std::nullopt);
     }
 
 private:
+    static void report(RuleContext& ctx, const Label& l, std::optional<SourceRange> first) {
+        auto& d = ctx.report(kMeta, l.range,
+                             "sequence name " + l.name + " is already defined in this program: a GOTO or IF to it "
+                             "may land on the other block");
+        if (first)
+            d.notes.push_back({"first defined here", first});
+        else
+            d.notes.push_back({"first defined earlier in this program (its place is kept for the first " +
+                                   std::to_string(kKeepFirst) + " sequence names of a program only)",
+                               std::nullopt});
+    }
+    // N followed by 1..kMaxDigits digits.
+    static bool numeric(const std::string& name) {
+        if (name.size() < 2 || name.size() > kMaxDigits + 1 || name[0] != 'N') return false;
+        for (size_t i = 1; i < name.size(); ++i)
+            if (name[i] < '0' || name[i] > '9') return false;
+        return true;
+    }
+    // For a numeric name: marks it seen; true when it was seen before. False
+    // (nothing marked) for other names.
+    bool set_bit(const std::string& name) {
+        if (!numeric(name)) return false;
+        const size_t digits = name.size() - 1;
+        uint64_t value = 0;
+        uint64_t count = 1;
+        for (size_t i = 1; i < name.size(); ++i) {
+            value = value * 10 + static_cast<uint64_t>(name[i] - '0');
+            count *= 10;
+        }
+        auto& bits = seen_[digits];
+        if (bits.empty()) bits.assign((count + 63) / 64, 0);
+        const uint64_t mask = uint64_t(1) << (value % 64);
+        const bool was = (bits[value / 64] & mask) != 0;
+        bits[value / 64] |= mask;
+        return was;
+    }
+
     std::map<std::string, ByteRange> first_;
+    std::array<std::vector<uint64_t>, kMaxDigits + 1> seen_;  // by digit count
 };
 
 }  // namespace

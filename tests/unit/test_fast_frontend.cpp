@@ -685,3 +685,25 @@ TEST_CASE("plain moves: a G0..G3 registered as a macro turns the shortcut off") 
     CHECK_FALSE(plain_moves_possible(shop.catalog));
     compare_checks("shop.min", "O1\nG0 X0 Y0 Z50.\nG1 X10. PR=2. PZ=-5.\nX20.\nM30\n", shop);
 }
+
+TEST_CASE("OSP003: beyond the names it keeps, numeric duplicates are still found") {
+    // 100,010 numbered blocks: the first 100,000 names keep their place for
+    // the note, later numeric ones only a bit.
+    std::string text = "O1\n";
+    for (int i = 1; i <= 100010; ++i) text += "N" + std::to_string(i) + " G0 X" + std::to_string(i % 50) + ".\n";
+    text += "N5 X1.\nN100005 X2.\nNSTOP X3.\nNSTOP X4.\nN00005 X5.\nN100011 X6.\nM30\n";
+    AnalysisOptions options;
+    options.only_rules = {"OSP003"};
+    const FileResult r = check_text_fast("dup.min", text, Config{}, options);
+    REQUIRE(r.diagnostics.size() == 3);
+    CHECK(r.diagnostics[0].message.find("N5 ") != std::string::npos);
+    REQUIRE(r.diagnostics[0].notes.size() == 1);
+    REQUIRE(r.diagnostics[0].notes[0].range.has_value());
+    CHECK(r.diagnostics[0].notes[0].range->start.line == 6);
+    CHECK(r.diagnostics[1].message.find("N100005 ") != std::string::npos);
+    REQUIRE(r.diagnostics[1].notes.size() == 1);
+    CHECK_FALSE(r.diagnostics[1].notes[0].range.has_value());
+    CHECK(r.diagnostics[2].message.find("NSTOP ") != std::string::npos);
+    REQUIRE(r.diagnostics[2].notes[0].range.has_value());
+    CHECK(r.diagnostics[2].notes[0].range->start.line == 100014);
+}
