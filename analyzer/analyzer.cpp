@@ -26,15 +26,6 @@ std::string_view call_kind_name(CallKind k) {
     return "?";
 }
 
-SourceRange RuleContext::resolve(ByteRange r) const {
-    const auto& src = source();
-    SourceRange out;
-    out.bytes = r;
-    out.start = src.position(r.begin);
-    out.end = src.position(r.end);
-    return out;
-}
-
 std::optional<double> word_value(const Block& b, const Word& w, const ModalState& s) {
     if (w.number) return w.number;
     if (w.value != kNoExpr) return evaluate(b, w.value, s);

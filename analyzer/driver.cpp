@@ -119,7 +119,17 @@ public:
 
     const Config& config() const override { return config_; }
     const Catalog& catalog() const override { return config_.catalog; }
-    const SourceText& source() const override { return file_.source; }
+    std::string_view text(ByteRange r) const override {
+        const std::string& all = file_.source.text();
+        return std::string_view(all).substr(std::min<size_t>(r.begin, all.size()), r.size());
+    }
+    SourceRange resolve(ByteRange r) const override {
+        SourceRange out;
+        out.bytes = r;
+        out.start = file_.source.position(r.begin);
+        out.end = file_.source.position(r.end);
+        return out;
+    }
     std::string_view path() const override { return file_.path; }
     bool has_label(std::string_view name) const override { return labels_ && labels_->count(std::string(name)); }
     bool has_program(std::string_view name) const override {

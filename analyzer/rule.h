@@ -88,7 +88,10 @@ public:
     virtual ~RuleContext() = default;
     virtual const Config& config() const = 0;
     virtual const Catalog& catalog() const = 0;
-    virtual const SourceText& source() const = 0;
+    // The text of a range of the block being checked, its line terminator
+    // included (a range that runs past the end of the file is cut there). The
+    // streaming check holds only the lines in hand, never the whole file.
+    virtual std::string_view text(ByteRange r) const = 0;
     virtual std::string_view path() const = 0;
     // Sequence names defined in the current program.
     virtual bool has_label(std::string_view name) const = 0;
@@ -97,7 +100,8 @@ public:
     // Value of an expression of `block` in `state`, when it can be known.
     virtual std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const = 0;
 
-    SourceRange resolve(ByteRange r) const;
+    // Line and columns of a range anywhere in the file.
+    virtual SourceRange resolve(ByteRange r) const = 0;
     // Reports a finding of `rule` at `range`; severity comes from configuration.
     virtual Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) = 0;
 };

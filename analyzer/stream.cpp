@@ -574,21 +574,18 @@ Flow build_flow(const std::vector<Block>& blocks, const Labels& labels) {
 
 // --------------------------------------------------------------- context
 
-// The members that implement RuleContext carry no `override`: text() and
-// resolve() become overrides, and source() an ordinary member, once
-// RuleContext declares text() and a virtual resolve() in place of source().
 class StreamContext final : public RuleContext {
 public:
     StreamContext(const std::string& path, const Config& config, const ProgramNames* known, Positions& positions,
                   ByteSource& src, StreamStats& stats)
         : path_(path), config_(config), known_(known), positions_(positions), src_(src), stats_(stats) {}
 
-    const Config& config() const { return config_; }
-    const Catalog& catalog() const { return config_.catalog; }
-    std::string_view path() const { return path_; }
+    const Config& config() const override { return config_; }
+    const Catalog& catalog() const override { return config_.catalog; }
+    std::string_view path() const override { return path_; }
 
-    // The whole text, for rules that index it directly. The streaming check
-    // never holds it: it is read on first use (StreamStats::source_loads).
+    // The whole text, read on first use (StreamStats::source_loads): only for
+    // a range outside the lines in hand, which no rule asks for today.
     const SourceText& source() const {
         if (!full_) {
             std::string text;
@@ -606,7 +603,7 @@ public:
     }
 
     // The analyzer's RuleContext::resolve without the whole text.
-    SourceRange resolve(ByteRange r) const {
+    SourceRange resolve(ByteRange r) const override {
         SourceRange out;
         out.bytes = r;
         out.start = positions_.position(r.begin);
@@ -615,14 +612,19 @@ public:
     }
 
     // The text of a range of the block being checked (or of its line terminator).
-    std::string_view text(ByteRange r) const {
-        for (const Window* w : {&positions_.current, &positions_.program})
+    std::string_view text(ByteRange r) const override {
+        for (const Window* w : {&positions_.current, &positions_.program}) {
             if (w->contains(r.begin) && w->contains(r.end)) return w->text.substr(r.begin - w->base, r.size());
+            // Past the end of the window: past the end of the file too when the
+            // window's last line has no terminator.
+            if (w->contains(r.begin) && !w->starts.empty() && w->starts.back() != w->text.size())
+                return w->text.substr(r.begin - w->base, r.size());
+        }
         const std::string& all = source().text();
         return std::string_view(all).substr(std::min<size_t>(r.begin, all.size()), r.size());
     }
 
-    bool has_label(std::string_view name) const {
+    bool has_label(std::string_view name) const override {
         if (labels_) return labels_->count(std::string(name)) > 0;
         // Streaming keeps no sequence names (a post-processor may number every
         // block): a program whose rules ask for one is read again with all its
@@ -631,7 +633,7 @@ public:
         return false;
     }
 
-    bool has_program(std::string_view name) const {
+    bool has_program(std::string_view name) const override {
         if (name.empty() ? unnamed_first_program_ : names_.count(name) > 0) return true;
         if (known_ && known_->find(name) != known_->end()) return true;
         if (name.empty() || lookahead_done_ || !lookahead_) return false;
@@ -640,11 +642,11 @@ public:
         return names_.count(name) > 0;
     }
 
-    std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const {
+    std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const override {
         return evaluate(block, e, state);
     }
 
-    Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) {
+    Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) override {
         Diagnostic d;
         d.rule = std::string(rule.id);
         d.name = std::string(rule.name);

@@ -31,8 +31,9 @@ public:
             // PM is already there: drop the M52 (and the blank before it).
             fix.title = "Remove M52 (PM is already given)";
             ByteRange r = m52->range;
-            const std::string& text = ctx.source().text();
-            while (r.begin > v.block.range.begin && (text[r.begin - 1] == ' ' || text[r.begin - 1] == '\t')) --r.begin;
+            const std::string_view line = ctx.text(v.block.range);
+            const uint32_t base = v.block.range.begin;
+            while (r.begin > base && (line[r.begin - 1 - base] == ' ' || line[r.begin - 1 - base] == '\t')) --r.begin;
             fix.edits.push_back({ctx.resolve(r), ""});
         } else {
             fix.title = "Replace M52 by PM=52";

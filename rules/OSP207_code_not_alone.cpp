@@ -30,17 +30,19 @@ public:
             // after it for M845). Not offered when moving it would change which
             // blocks a jump or BLOCK SKIP reaches.
             if (b.sequence || b.block_delete) continue;
-            const std::string& text = ctx.source().text();
+            // The line and the first character of its terminator, if any.
+            const std::string_view line = ctx.text(ByteRange{b.range.begin, b.range.end + 1});
+            const uint32_t base = b.range.begin;
+            auto at = [&](uint32_t offset) { return line[offset - base]; };
             std::string indent;
-            for (uint32_t i = b.range.begin; i < b.range.end && (text[i] == ' ' || text[i] == '\t'); ++i)
-                indent += text[i];
+            for (uint32_t i = b.range.begin; i < b.range.end && (at(i) == ' ' || at(i) == '\t'); ++i) indent += at(i);
             const uint32_t first = b.range.begin + static_cast<uint32_t>(indent.size());
             ByteRange cut = w.range;
-            while (cut.begin > first && (text[cut.begin - 1] == ' ' || text[cut.begin - 1] == '\t')) --cut.begin;
+            while (cut.begin > first && (at(cut.begin - 1) == ' ' || at(cut.begin - 1) == '\t')) --cut.begin;
             if (cut.begin == first)  // the first word: take the blanks after it instead
-                while (cut.end < b.range.end && (text[cut.end] == ' ' || text[cut.end] == '\t')) ++cut.end;
+                while (cut.end < b.range.end && (at(cut.end) == ' ' || at(cut.end) == '\t')) ++cut.end;
             std::string eol = "\n";
-            if (b.range.end < text.size() && text[b.range.end] == '\r') eol = "\r\n";
+            if (line.size() > b.range.size() && at(b.range.end) == '\r') eol = "\r\n";
             Fix fix;
             fix.title = "Move " + code + " to a line of its own";
             if (start) {

@@ -25,7 +25,7 @@ public:
         const MacroArg* f = macro::given(*c, *f_spec);
         // F omitted: the current feed is used (seed 003 L66).
         Val<double> feed = f ? f->value : v.before.feed;
-        const std::string g = ctx.source().text().substr(c->name_range.begin, c->name_range.size());
+        const std::string g(ctx.text(c->name_range));
         std::string msg;
         ByteRange where = c->name_range;
         if (!fa) {

@@ -39,7 +39,7 @@ public:
             const ActiveCycle* cyc = active_cycle(v.after);
             if (!cyc) return;
             pending_ = Pending{c->name_range, x ? x->range : y->range, v.after.x.value, v.after.y.value,
-                               cyc->start_line, ctx.source().text().substr(c->name_range.begin, c->name_range.size())};
+                               cyc->start_line, std::string(ctx.text(c->name_range))};
             return;
         }
         if (!pending_) return;

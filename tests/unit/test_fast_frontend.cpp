@@ -409,10 +409,16 @@ TEST_CASE("fast front end: randomly mutated corpus programs") {
 
 TEST_CASE("streaming check: corpus, examples and fixtures give check_text's result") {
     const auto files = corpus_files();
+    std::map<std::string, int> fixes;
     for (const auto& f : files) {
         const Config config = config_for(f);
         const std::string text = read_all(f);
-        compare_checks(f.string(), text, config);
+        StreamStats stats;
+        compare_checks(f.string(), text, config, {}, &stats);
+        // Findings with fixes and notes read only the lines in hand.
+        CHECK_MESSAGE(stats.source_loads == 0, f.string());
+        for (const auto& d : check_text(f.string(), text, config).diagnostics)
+            if (!d.fixes.empty()) ++fixes[d.rule];
         // With the program names of the directory, as the CLI passes them.
         ProgramNames names;
         for (const auto& e : fs::directory_iterator(f.parent_path()))
@@ -420,6 +426,16 @@ TEST_CASE("streaming check: corpus, examples and fixtures give check_text's resu
         AnalysisOptions options;
         options.known_programs = &names;
         compare_checks(f.string(), text, config, options);
+    }
+    // The rules that read source text for their fixes had findings.
+    for (const char* id : {"OSP104", "OSP207"}) CHECK_MESSAGE(fixes[id] > 0, id);
+}
+
+TEST_CASE("streaming check: a fix on the last line, without a line end, reads no more than the file") {
+    for (const char* text : {"O1\r\nG0 X1. M843", "O1\nS500 M843\r\nM30", "O1\nS500 M843"}) {
+        StreamStats stats;
+        compare_checks("fix.min", text, Config{}, {}, &stats);
+        CHECK(stats.source_loads == 0);
     }
 }
 
