@@ -12,7 +12,13 @@
 
 namespace osplint {
 
+// A line whose parse has a syntax error is parsed again on its own (as
+// parse_line_tree_sitter does): error recovery then depends on that line
+// alone, not on its neighbours, and the streaming front end gives the same
+// block for it.
 ProgramFile parse_program_file(std::string path, std::string text);
+// The same without parsing error lines again (for a text of one line).
+ProgramFile parse_program_file_once(std::string path, std::string text);
 
 // Splits blocks into programs (an `O` name starts a new one). Shared by the
 // front ends so that both agree on program boundaries.

@@ -1091,7 +1091,7 @@ void parse_line_tree_sitter(const LineRef& line, Block& out) {
     text.push_back(' ');
     text.append(line.text);
     text.append(line.terminator);
-    ProgramFile f = parse_program_file(std::string(), std::move(text));
+    ProgramFile f = parse_program_file_once(std::string(), std::move(text));
     Block b = f.blocks.empty() ? Block{} : std::move(f.blocks[0]);
     const uint32_t start = line.start;
     for_each_range(b, [&](ByteRange& r) {

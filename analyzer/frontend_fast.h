@@ -10,9 +10,9 @@
 // comparisons, syntax errors, non-ASCII text outside comments, ...) is parsed by
 // the tree-sitter front end on its own, with its offsets shifted to the line's
 // place in the file. The grammar is line oriented, so a line without syntax
-// errors parses the same alone and in its file; on a line with one,
-// tree-sitter's error recovery may depend on the lines around it, and this
-// front end gives the line's own parse.
+// errors parses the same alone and in its file; a line with one is parsed on
+// its own by the tree-sitter front end too (frontend.h), so that its error
+// recovery does not depend on the lines around it.
 #pragma once
 
 #include <cstdint>

@@ -7,6 +7,7 @@
 // stops at kMaxExprDepth and everything below is only swept iteratively for
 // comments and syntax errors.
 #include "frontend.h"
+#include "frontend_fast.h"
 
 #include <tree_sitter/api.h>
 
@@ -1535,7 +1536,46 @@ std::vector<char> lines_to_reparse(TSNode root, const SourceText& src, size_t co
     return marks;
 }
 
-void parse_blocks(const SourceText& src, std::vector<Block>& blocks) {
+// Marks the lines of every ERROR and MISSING node (hidden ones included, such
+// as a missing line end), walking only the subtrees that hold one.
+void mark_error_lines(TSNode root, const SourceText& src, std::vector<char>& marks) {
+    if (!ts_node_has_error(root)) return;
+    // A missing line end is a hidden node the tree does not show: two lines'
+    // worth of nodes (block, tape header, tape mark) on one line.
+    const Grammar& g = grammar();
+    uint32_t last_line = 0;
+    for (uint32_t i = 0, n = ts_node_child_count(root); i < n; ++i) {
+        const TSNode ch = ts_node_child(root, i);
+        const TSSymbol s = ts_node_symbol(ch);
+        if (s != g.block && s != g.tape_header && s != g.tape_mark) continue;
+        const uint32_t line = src.line_of(ts_node_start_byte(ch));
+        if (line == last_line && line >= 1 && line <= marks.size()) marks[line - 1] = 1;
+        last_line = line;
+    }
+    TSTreeCursor c = ts_tree_cursor_new(root);
+    while (true) {
+        const TSNode n = ts_tree_cursor_current_node(&c);
+        const bool bad = is_error(n) || ts_node_is_missing(n);
+        if (bad) {
+            const uint32_t b = ts_node_start_byte(n);
+            const uint32_t e = ts_node_end_byte(n);
+            const uint32_t first = src.line_of(b);
+            const uint32_t last = src.line_of(e > b ? e - 1 : b);
+            for (uint32_t l = first; l <= last && l <= marks.size(); ++l)
+                if (l >= 1) marks[l - 1] = 1;
+        }
+        // Into a subtree with an error (not into an ERROR node: its lines are marked).
+        if (!bad && ts_node_has_error(n) && ts_tree_cursor_goto_first_child(&c)) continue;
+        // Next sibling, or up until there is one.
+        bool moved = false;
+        while (!(moved = ts_tree_cursor_goto_next_sibling(&c)))
+            if (!ts_tree_cursor_goto_parent(&c)) break;
+        if (!moved) break;
+    }
+    ts_tree_cursor_delete(&c);
+}
+
+void parse_blocks(const SourceText& src, std::vector<Block>& blocks, std::vector<char>* error_lines) {
     const Grammar& g = grammar();
     std::unique_ptr<TSParser, decltype(&ts_parser_delete)> parser(ts_parser_new(), &ts_parser_delete);
     ts_parser_set_language(parser.get(), g.lang);
@@ -1547,6 +1587,10 @@ void parse_blocks(const SourceText& src, std::vector<Block>& blocks) {
     }
     Converter conv(src.text(), blocks, src);
     const TSNode root = ts_tree_root_node(tree.get());
+    if (error_lines) {
+        error_lines->assign(blocks.size(), 0);
+        mark_error_lines(root, src, *error_lines);
+    }
     std::vector<char> reparse;
     if (ts_node_has_error(root)) reparse = lines_to_reparse(root, src, blocks.size());
     const bool any = std::find(reparse.begin(), reparse.end(), 1) != reparse.end();
@@ -1571,7 +1615,39 @@ void parse_blocks(const SourceText& src, std::vector<Block>& blocks) {
 
 }  // namespace
 
+namespace {
+ProgramFile parse_file(std::string path, std::string text, std::vector<char>* error_lines);
+}
+
 ProgramFile parse_program_file(std::string path, std::string text) {
+    std::vector<char> error_lines;
+    ProgramFile file = parse_file(std::move(path), std::move(text), &error_lines);
+    // Error lines again, each on its own.
+    const SourceText& src = file.source;
+    bool changed = false;
+    for (Block& b : file.blocks) {
+        const bool error_line = b.line >= 1 && b.line <= error_lines.size() && error_lines[b.line - 1];
+        if ((b.errors.empty() && !error_line) || b.line == 0) continue;
+        const std::string_view t = src.line_text(b.line);
+        const uint32_t text_end = b.line_start + static_cast<uint32_t>(t.size());
+        const uint32_t next = b.line < src.line_count() ? src.line_start(b.line + 1) : static_cast<uint32_t>(src.size());
+        const LineRef l{t, std::string_view(src.text()).substr(text_end, next - text_end), b.line, b.line_start};
+        Block alone;
+        parse_line_tree_sitter(l, alone);
+        b = std::move(alone);
+        changed = true;
+    }
+    if (changed) file.programs = split_programs(file.blocks);
+    return file;
+}
+
+ProgramFile parse_program_file_once(std::string path, std::string text) {
+    return parse_file(std::move(path), std::move(text), nullptr);
+}
+
+namespace {
+
+ProgramFile parse_file(std::string path, std::string text, std::vector<char>* error_lines) {
     ProgramFile file;
     file.path = std::move(path);
     const bool too_large = text.size() > std::numeric_limits<uint32_t>::max() - 1;
@@ -1595,10 +1671,12 @@ ProgramFile parse_program_file(std::string path, std::string text) {
         return file;
     }
 
-    if (count > 0) parse_blocks(src, file.blocks);
+    if (count > 0) parse_blocks(src, file.blocks, error_lines);
     file.programs = split_programs(file.blocks);
     return file;
 }
+
+}  // namespace
 
 std::vector<Program> split_programs(const std::vector<Block>& blocks) {
     std::vector<Program> programs;

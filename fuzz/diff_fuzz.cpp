@@ -2,13 +2,10 @@
 // and both checks; any difference aborts.
 //
 //   * parse_program_file (tree-sitter) and parse_program_file_fast give equal
-//     Blocks and programs. The one tolerated difference (see
-//     tests/unit/test_fast_frontend.cpp): on a line that is a syntax error for
-//     either front end, the fast block must be the line's own tree-sitter
-//     parse, because tree-sitter's error recovery depends on the lines around.
-//     Built with -DOSPLINT_FUZZ_STRICT_ERROR_LINES, that is a divergence too.
-//   * When the models agree, check_text and the streaming check (read in
-//     chunks of a size taken from the input) give the same result, every field.
+//     Blocks and programs (lines with syntax errors included: both front ends
+//     parse such a line on its own).
+//   * check_text and the streaming check (read in chunks of a size taken from
+//     the input) give the same result, every field.
 //
 // Build and run with fuzz/run.sh.
 #include <cstdint>
@@ -31,15 +28,6 @@ namespace {
     std::abort();
 }
 
-LineRef line_of(const ProgramFile& f, const Block& b) {
-    const std::string_view text = f.source.text();
-    const std::string_view lt = f.source.line_text(b.line);
-    const uint32_t end = b.line_start + static_cast<uint32_t>(lt.size());
-    uint32_t term = 0;
-    if (end < text.size()) term = (text[end] == '\r' && end + 1 < text.size() && text[end + 1] == '\n') ? 2 : 1;
-    return LineRef{lt, text.substr(end, term), b.line, b.line_start};
-}
-
 const Config& config() {
     static const Config c;
     return c;
@@ -54,23 +42,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const ProgramFile fast = parse_program_file_fast("fuzz.min", text);
     if (ts.blocks.size() != fast.blocks.size())
         divergence("block count " + std::to_string(ts.blocks.size()) + " vs " + std::to_string(fast.blocks.size()));
-    bool tolerated = false;
     for (size_t k = 0; k < ts.blocks.size(); ++k) {
         const Block& a = ts.blocks[k];
         const Block& b = fast.blocks[k];
         if (a == b) continue;
-        Block alone;
-        parse_line_tree_sitter(line_of(ts, a), alone);
-#ifndef OSPLINT_FUZZ_STRICT_ERROR_LINES
-        if ((!a.errors.empty() || !b.errors.empty()) && b == alone) {
-            tolerated = true;
-            continue;
-        }
-#endif
         divergence("line " + std::to_string(a.line) + " '" + std::string(ts.source.line_text(a.line)) +
                    "'\n-- tree-sitter:\n" + dump_block(a) + "-- fast:\n" + dump_block(b));
     }
-    if (tolerated) return 0;
     if (!(ts.programs == fast.programs)) divergence("programs differ");
 
     const std::string path = size > 0 && (data[0] & 1) ? "fuzz.ssb" : "fuzz.min";
