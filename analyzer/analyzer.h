@@ -1,9 +1,12 @@
 // The checker: program model in, diagnostics out.
 #pragma once
 
+#include <functional>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "config.h"
@@ -43,6 +46,32 @@ struct AnalysisResult {
 
 // Runs every enabled rule over a parsed file.
 AnalysisResult analyze(const ProgramFile& file, const Config& config, const AnalysisOptions& options = {});
+
+// Sequence names of a program's blocks -> the blocks that define them
+// (indices from the program's first block).
+using Labels = std::unordered_map<std::string, std::vector<uint32_t>>;
+Labels labels_of(const Block* blocks, uint32_t count);
+// Whether a block ends its program where control reaches it (M02, M30, RTS).
+bool ends_program(const Block& block);
+
+// One program, analysed as analyze() analyses each: its control flow, the
+// modal state at every block to a fixpoint, then every rule on every block
+// in order. Shared by analyze() and the streaming check's programs with jumps.
+struct ProgramInput {
+    const Block* blocks = nullptr;  // the program's blocks
+    uint32_t count = 0;
+    const Program* program = nullptr;
+    const std::vector<Block>* file_blocks = nullptr;  // ProgramView::blocks (null when streaming)
+    bool subprogram = false;
+    const Labels* labels = nullptr;
+};
+// Called for block i after the rules saw it.
+using BlockHook = std::function<void(uint32_t i, const BlockView& view, const std::optional<MacroCall>& call)>;
+// Runs `rules` over the program; `before(i)`, when set, is called before the
+// rules see block i. Returns how many times a block was applied to a state.
+uint64_t analyze_program(const ProgramInput& input, const Config& config, RuleContext& ctx,
+                         const std::vector<std::unique_ptr<Rule>>& rules, const std::function<void(uint32_t)>& before,
+                         const BlockHook& after);
 
 // The state at the start of a program (from the configuration's machine defaults).
 ModalState initial_state(const Config& config, bool subprogram);

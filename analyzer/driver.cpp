@@ -14,25 +14,31 @@
 #include "rules/registry.h"
 
 namespace osplint {
-namespace {
 
 bool ends_program(const Block& b) {
     if (b.statement(StmtKind::Rts)) return true;
     for (const auto& w : b.words)
-        if (w.address == "M" && w.number && (*w.number == 2 || *w.number == 30)) return true;
+        if (w.address.size() == 1 && w.address[0] == 'M' && w.number && (*w.number == 2 || *w.number == 30))
+            return true;
     return false;
 }
+
+Labels labels_of(const Block* blocks, uint32_t n) {
+    Labels labels;
+    for (uint32_t i = 0; i < n; ++i)
+        if (blocks[i].sequence) labels[blocks[i].sequence->name].push_back(i);
+    return labels;
+}
+
+namespace {
 
 // Successor edges of the blocks of one program.
 struct Flow {
     std::vector<std::vector<uint32_t>> succ;  // indices relative to the program's first block
     std::vector<bool> exits;                  // the program ends after this block
-    bool has_jumps = false;
 };
 
-Flow build_flow(const std::vector<Block>& blocks, const Program& p,
-                const std::unordered_map<std::string, std::vector<uint32_t>>& labels) {
-    const uint32_t n = p.end_block - p.first_block;
+Flow build_flow(const Block* blocks, uint32_t n, const Labels& labels) {
     Flow f;
     f.succ.resize(n);
     f.exits.assign(n, false);
@@ -40,7 +46,7 @@ Flow build_flow(const std::vector<Block>& blocks, const Program& p,
     std::unordered_map<int, std::vector<uint32_t>> open;
     std::vector<int64_t> loop_end(n, -1), loop_head(n, -1);
     for (uint32_t i = 0; i < n; ++i) {
-        const Block& b = blocks[p.first_block + i];
+        const Block& b = blocks[i];
         for (const auto& st : b.statements) {
             if ((st.kind == StmtKind::While || st.kind == StmtKind::Do) && st.loop >= 0) {
                 open[st.loop].push_back(i);
@@ -55,11 +61,10 @@ Flow build_flow(const std::vector<Block>& blocks, const Program& p,
         }
     }
     for (uint32_t i = 0; i < n; ++i) {
-        const Block& b = blocks[p.first_block + i];
+        const Block& b = blocks[i];
         auto& out = f.succ[i];
         bool falls_through = true;
         auto jump_to = [&](const std::string& label) {
-            f.has_jumps = true;
             if (auto it = labels.find(label); it != labels.end())
                 for (uint32_t t : it->second) out.push_back(t);
         };
@@ -73,7 +78,6 @@ Flow build_flow(const std::vector<Block>& blocks, const Program& p,
                     jump_to(st.name);
                     break;
                 case StmtKind::While:
-                    f.has_jumps = true;
                     if (loop_end[i] >= 0 && static_cast<uint32_t>(loop_end[i]) + 1 < n)
                         out.push_back(static_cast<uint32_t>(loop_end[i]) + 1);
                     else if (loop_end[i] >= 0)
@@ -81,11 +85,10 @@ Flow build_flow(const std::vector<Block>& blocks, const Program& p,
                     break;
                 case StmtKind::End:
                     if (loop_head[i] >= 0) {
-                        f.has_jumps = true;
                         out.push_back(static_cast<uint32_t>(loop_head[i]));
                         // A WHILE loop exits at its head; a bare DO loop only through a jump.
                         if (!b.block_delete) falls_through = false;
-                        const Block& head = blocks[p.first_block + loop_head[i]];
+                        const Block& head = blocks[loop_head[i]];
                         if (head.statement(StmtKind::While)) falls_through = false;
                     }
                     break;
@@ -239,6 +242,83 @@ void collect_program_names(std::string_view text, ProgramNames& out) {
     }
 }
 
+uint64_t analyze_program(const ProgramInput& input, const Config& config, RuleContext& ctx,
+                         const std::vector<std::unique_ptr<Rule>>& rules, const std::function<void(uint32_t)>& before,
+                         const BlockHook& after) {
+    const uint32_t n = input.count;
+    const Block* blocks = input.blocks;
+    const Catalog& catalog = config.catalog;
+    const Flow flow = build_flow(blocks, n, *input.labels);
+    uint64_t transfers = 0;
+
+    // Modal state at every block, to a fixpoint over the flow graph.
+    std::vector<std::optional<ModalState>> in(n);
+    if (n) in[0] = initial_state(config, input.subprogram);
+    std::vector<std::optional<MacroCall>> calls(n);
+    std::optional<ModalState> final_state;
+    auto transfer = [&](uint32_t i, const ModalState& state) {
+        ++transfers;
+        const Block& b = blocks[i];
+        calls[i] = resolve_call(b, state, catalog);
+        ModalState out = state;
+        apply_block(b, calls[i] ? &*calls[i] : nullptr, catalog, out);
+        if (b.block_delete) out.merge(state);  // BLOCK SKIP may be on or off
+        out.clear_one_shots();  // NCYL, NOEX, G100 belong to their block only
+        return out;
+    };
+    auto flow_into = [&](uint32_t t, const ModalState& st) -> bool {
+        if (!in[t]) {
+            in[t] = st;
+            return true;
+        }
+        ModalState merged = *in[t];
+        merged.merge(st);
+        if (merged == *in[t]) return false;
+        in[t] = std::move(merged);
+        return true;
+    };
+    if (n) {
+        std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> work;
+        std::vector<bool> queued(n, false);
+        work.push(0);
+        queued[0] = true;
+        while (!work.empty()) {
+            const uint32_t i = work.top();
+            work.pop();
+            queued[i] = false;
+            ModalState out = transfer(i, *in[i]);
+            if (flow.exits[i]) {
+                if (!final_state) final_state = out;
+                else final_state->merge(out);
+            }
+            for (uint32_t t : flow.succ[i])
+                if (flow_into(t, out) && !queued[t]) {
+                    queued[t] = true;
+                    work.push(t);
+                }
+        }
+    }
+
+    // One pass over the blocks for the rules.
+    ProgramView pv{*input.program, input.file_blocks, input.subprogram, final_state ? &*final_state : nullptr};
+    for (auto& r : rules) r->begin_program(ctx, pv);
+    const ModalState unknown_state;
+    for (uint32_t i = 0; i < n; ++i) {
+        const Block& b = blocks[i];
+        const bool reachable = in[i].has_value();
+        const ModalState& state = reachable ? *in[i] : unknown_state;
+        if (!reachable) calls[i] = resolve_call(b, state, catalog);
+        ModalState out = state;
+        apply_block(b, calls[i] ? &*calls[i] : nullptr, catalog, out);
+        if (before) before(i);
+        const BlockView view{b, state, out, calls[i] ? &*calls[i] : nullptr, reachable};
+        for (auto& r : rules) r->check_block(ctx, view);
+        if (after) after(i, view, calls[i]);
+    }
+    for (auto& r : rules) r->end_program(ctx, pv);
+    return transfers;
+}
+
 AnalysisResult analyze(const ProgramFile& file, const Config& config, const AnalysisOptions& options) {
     AnalysisResult result;
     Context ctx(file, config, options.known_programs);
@@ -261,12 +341,11 @@ AnalysisResult analyze(const ProgramFile& file, const Config& config, const Anal
     bool seen_main = false;
     for (const Program& p : file.programs) {
         const uint32_t n = p.end_block - p.first_block;
-        std::unordered_map<std::string, std::vector<uint32_t>> labels;
+        const Labels labels = labels_of(file.blocks.data() + p.first_block, n);
         bool subprogram = file_is_subprogram_library(file.path);
         bool has_content = false;
         for (uint32_t i = 0; i < n; ++i) {
             const Block& b = file.blocks[p.first_block + i];
-            if (b.sequence) labels[b.sequence->name].push_back(i);
             if (b.statement(StmtKind::Rts)) subprogram = true;
             if (b.kind == LineKind::Block && !b.is_empty()) has_content = true;
         }
@@ -276,78 +355,23 @@ AnalysisResult analyze(const ProgramFile& file, const Config& config, const Anal
             seen_main = true;
         }
         ctx.set_program(&p, &labels);
-        Flow flow = build_flow(file.blocks, p, labels);
-
-        // Modal state at every block, to a fixpoint over the flow graph.
-        std::vector<std::optional<ModalState>> in(n);
-        if (n) in[0] = initial_state(config, subprogram);
-        std::vector<std::optional<MacroCall>> calls(n);
-        std::optional<ModalState> final_state;
-        auto transfer = [&](uint32_t i, const ModalState& before) {
-            ++result.transfer_count;
-            const Block& b = file.blocks[p.first_block + i];
-            calls[i] = resolve_call(b, before, catalog);
-            ModalState after = before;
-            apply_block(b, calls[i] ? &*calls[i] : nullptr, catalog, after);
-            if (b.block_delete) after.merge(before);  // BLOCK SKIP may be on or off
-            after.clear_one_shots();  // NCYL, NOEX, G100 belong to their block only
-            return after;
-        };
-        auto flow_into = [&](uint32_t t, const ModalState& st) -> bool {
-            if (!in[t]) {
-                in[t] = st;
-                return true;
-            }
-            ModalState merged = *in[t];
-            merged.merge(st);
-            if (merged == *in[t]) return false;
-            in[t] = std::move(merged);
-            return true;
-        };
-        if (n) {
-            std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> work;
-            std::vector<bool> queued(n, false);
-            work.push(0);
-            queued[0] = true;
-            while (!work.empty()) {
-                uint32_t i = work.top();
-                work.pop();
-                queued[i] = false;
-                ModalState after = transfer(i, *in[i]);
-                if (flow.exits[i]) {
-                    if (!final_state) final_state = after;
-                    else final_state->merge(after);
-                }
-                for (uint32_t t : flow.succ[i])
-                    if (flow_into(t, after) && !queued[t]) {
-                        queued[t] = true;
-                        work.push(t);
-                    }
-            }
-        }
-
-        // One pass over the blocks for the rules.
-        ProgramView pv{p, &file.blocks, subprogram, final_state ? &*final_state : nullptr};
-        for (auto& r : rules) r->begin_program(ctx, pv);
-        const ModalState unknown_state;
-        for (uint32_t i = 0; i < n; ++i) {
-            const Block& b = file.blocks[p.first_block + i];
-            const bool reachable = in[i].has_value();
-            const ModalState& before = reachable ? *in[i] : unknown_state;
-            if (!reachable) calls[i] = resolve_call(b, before, catalog);
-            ModalState after = before;
-            apply_block(b, calls[i] ? &*calls[i] : nullptr, catalog, after);
-            BlockView view{b, before, after, calls[i] ? &*calls[i] : nullptr, reachable};
-            for (auto& r : rules) r->check_block(ctx, view);
-            if (options.keep_states) {
+        ProgramInput input;
+        input.blocks = file.blocks.data() + p.first_block;
+        input.count = n;
+        input.program = &p;
+        input.file_blocks = &file.blocks;
+        input.subprogram = subprogram;
+        input.labels = &labels;
+        BlockHook keep;
+        if (options.keep_states)
+            keep = [&](uint32_t i, const BlockView& view, const std::optional<MacroCall>& call) {
                 auto& info = result.blocks[p.first_block + i];
-                info.before = before;
-                info.after = after;
-                info.call = calls[i];
-                info.reachable = reachable;
-            }
-        }
-        for (auto& r : rules) r->end_program(ctx, pv);
+                info.before = view.before;
+                info.after = view.after;
+                info.call = call;
+                info.reachable = view.reachable;
+            };
+        result.transfer_count += analyze_program(input, config, ctx, rules, nullptr, keep);
         ctx.set_program(nullptr, nullptr);
     }
     result.diagnostics = std::move(ctx.diagnostics);

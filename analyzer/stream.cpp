@@ -29,7 +29,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <queue>
 #include <set>
 #include <unordered_map>
 #include <vector>
@@ -469,14 +468,6 @@ private:
 
 // ------------------------------------------------------------ the analysis
 
-bool ends_program(const Block& b) {
-    if (b.statement(StmtKind::Rts)) return true;
-    for (const auto& w : b.words)
-        if (w.address.size() == 1 && w.address[0] == 'M' && w.number && (*w.number == 2 || *w.number == 30))
-            return true;
-    return false;
-}
-
 bool file_is_subprogram_library(std::string_view path) {
     auto dot = path.rfind('.');
     if (dot == std::string_view::npos) return false;
@@ -497,79 +488,6 @@ bool has_flow_statement(const Block& b) {
             default: break;
         }
     return false;
-}
-
-using Labels = std::unordered_map<std::string, std::vector<uint32_t>>;
-
-// Successor edges of one program's blocks, as the analyzer builds them.
-struct Flow {
-    std::vector<std::vector<uint32_t>> succ;
-    std::vector<bool> exits;
-};
-
-Flow build_flow(const std::vector<Block>& blocks, const Labels& labels) {
-    const uint32_t n = static_cast<uint32_t>(blocks.size());
-    Flow f;
-    f.succ.resize(n);
-    f.exits.assign(n, false);
-    std::unordered_map<int, std::vector<uint32_t>> open;
-    std::vector<int64_t> loop_end(n, -1), loop_head(n, -1);
-    for (uint32_t i = 0; i < n; ++i) {
-        for (const auto& st : blocks[i].statements) {
-            if ((st.kind == StmtKind::While || st.kind == StmtKind::Do) && st.loop >= 0) {
-                open[st.loop].push_back(i);
-            } else if (st.kind == StmtKind::End && st.loop >= 0) {
-                auto& v = open[st.loop];
-                if (!v.empty()) {
-                    loop_head[i] = v.back();
-                    loop_end[v.back()] = i;
-                    v.pop_back();
-                }
-            }
-        }
-    }
-    for (uint32_t i = 0; i < n; ++i) {
-        const Block& b = blocks[i];
-        auto& out = f.succ[i];
-        bool falls_through = true;
-        auto jump_to = [&](const std::string& label) {
-            if (auto it = labels.find(label); it != labels.end())
-                for (uint32_t t : it->second) out.push_back(t);
-        };
-        for (const auto& st : b.statements) {
-            switch (st.kind) {
-                case StmtKind::Goto:
-                    jump_to(st.name);
-                    if (!b.block_delete) falls_through = false;
-                    break;
-                case StmtKind::If: jump_to(st.name); break;
-                case StmtKind::While:
-                    if (loop_end[i] >= 0 && static_cast<uint32_t>(loop_end[i]) + 1 < n)
-                        out.push_back(static_cast<uint32_t>(loop_end[i]) + 1);
-                    else if (loop_end[i] >= 0)
-                        f.exits[i] = true;  // the loop is the last thing in the program
-                    break;
-                case StmtKind::End:
-                    if (loop_head[i] >= 0) {
-                        out.push_back(static_cast<uint32_t>(loop_head[i]));
-                        if (!b.block_delete) falls_through = false;
-                        if (blocks[static_cast<size_t>(loop_head[i])].statement(StmtKind::While))
-                            falls_through = false;
-                    }
-                    break;
-                default: break;
-            }
-        }
-        if (ends_program(b)) {
-            f.exits[i] = true;
-            if (!b.block_delete) falls_through = false;
-        }
-        if (falls_through && i + 1 < n) out.push_back(i + 1);
-        if (falls_through && i + 1 == n) f.exits[i] = true;
-        std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
-    }
-    return f;
 }
 
 // --------------------------------------------------------------- context
@@ -786,12 +704,10 @@ public:
         }
         if (!any) return;
         DirectiveBlock d;
-        d.index = index;
         d.line = b.line;
         d.line_start = b.line_start;
         d.text.assign(line_text);
         d.program = program_names_.size() - 1;
-        d.content = content;
         d.target = content ? static_cast<int64_t>(index) : int64_t{-1};
         for (const auto& c : b.comments) d.comments.push_back(c.range);
         if (!content) pending_.push_back(blocks_.size());
@@ -802,59 +718,15 @@ public:
 
 private:
     struct DirectiveBlock {
-        uint32_t index = 0;
         uint32_t line = 0;
         uint32_t line_start = 0;
         std::string text;  // the whole line
         size_t program = 0;
-        bool content = false;
-        int64_t target = -1;
+        int64_t target = -1;  // block index (= line - 1) of the next block with content
         std::vector<ByteRange> comments;
     };
-    struct Entry {
-        std::string rule;
-        size_t directive = 0;
-        size_t index = 0;
-        int64_t target = -1;
-        bool file_scope = false;
-        bool used = false;
-    };
-
-    static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
     static bool has_content(const Block& b) {
         return b.kind == LineKind::Block && (!b.is_empty() || !b.errors.empty());
-    }
-    static std::string upper(std::string_view s) {
-        std::string out(s);
-        for (auto& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-        return out;
-    }
-    static bool iequals(std::string_view a, std::string_view b) {
-        if (a.size() != b.size()) return false;
-        for (size_t i = 0; i < a.size(); ++i)
-            if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
-                return false;
-        return true;
-    }
-    bool rule_ran(const RuleMeta& m) const {
-        if (!options_.only_rules.empty())
-            return std::find(options_.only_rules.begin(), options_.only_rules.end(), m.id) !=
-                   options_.only_rules.end();
-        return config_.severity_of(m.id, m.severity, m.enabled_by_default).has_value();
-    }
-
-    // A position on a directive's line.
-    static Position position(const DirectiveBlock& d, uint32_t offset) {
-        Position p;
-        p.line = d.line;
-        p.byte_col = offset - d.line_start;
-        const ColumnCount c = count_columns(std::string_view(d.text).substr(0, std::min<size_t>(p.byte_col, d.text.size())));
-        p.cp_col = c.cp;
-        p.utf16_col = c.utf16;
-        return p;
-    }
-    static SourceRange range_on(const DirectiveBlock& d, ByteRange r) {
-        return SourceRange{r, position(d, r.begin), position(d, r.end)};
     }
 
     const Config& config_;
@@ -867,207 +739,20 @@ private:
 };
 
 SuppressionResult Suppressions::finish(std::vector<Diagnostic> diagnostics) {
-    SuppressionResult out;
-    if (blocks_.empty()) {  // no directive: nothing to silence, nothing to report
-        out.diagnostics = std::move(diagnostics);
-        std::stable_sort(out.diagnostics.begin(), out.diagnostics.end(), diagnostic_less);
-        return out;
+    std::vector<DirectiveLine> lines;
+    lines.reserve(blocks_.size());
+    for (DirectiveBlock& db : blocks_) {
+        DirectiveLine l;
+        l.line = db.line;
+        l.line_start = db.line_start;
+        l.text = std::move(db.text);
+        l.program = program_names_[db.program];
+        l.target_line = db.target >= 0 ? static_cast<uint32_t>(db.target) + 1 : 0;  // blocks are lines
+        l.comments = std::move(db.comments);
+        lines.push_back(std::move(l));
     }
-    const RuleMeta* unknown_meta = find_rule("OSP901");
-    const RuleMeta* unused_meta = find_rule("OSP902");
-    const bool report_unknown = unknown_meta && rule_ran(*unknown_meta);
-    const bool report_unused = unused_meta && rule_ran(*unused_meta);
-
-    std::vector<SuppressionDirective> directives;
-    std::vector<size_t> directive_block;  // index into blocks_
-    std::vector<Entry> entries;
-    std::vector<Diagnostic> own;
-    std::map<std::string, int> occurrences;
-
-    auto make = [&](const RuleMeta& meta, ByteRange range, const DirectiveBlock& db,
-                    std::string message) -> Diagnostic& {
-        Diagnostic d;
-        d.rule = std::string(meta.id);
-        d.name = std::string(meta.name);
-        d.severity = config_.severity_of(meta.id, meta.severity, meta.enabled_by_default).value_or(meta.severity);
-        d.message = std::move(message);
-        d.range = range_on(db, range);
-        d.line_text = db.text.substr(0, 1000);
-        std::string key;
-        const std::string& program = program_names_[db.program];
-        const std::string_view body =
-            std::string_view(db.text).substr(range.begin - db.line_start, range.size());
-        for (char c : d.line_text)
-            if (!std::isspace(static_cast<unsigned char>(c))) key += c;
-        key += '|';
-        key += body;
-        const int occurrence = ++occurrences[fmt::format("{}|{}|{}", meta.id, program, key)];
-        d.fingerprint = make_fingerprint(meta.id, program, key, occurrence);
-        own.push_back(std::move(d));
-        return own.back();
-    };
-
-    for (size_t bi = 0; bi < blocks_.size(); ++bi) {
-        const DirectiveBlock& db = blocks_[bi];
-        for (const ByteRange& c : db.comments) {
-            const ByteRange rel{c.begin - db.line_start, c.end - db.line_start};
-            DirectiveParse p = parse_directive(db.text, rel);
-            if (!p.is_directive) continue;
-            auto shift = [&](ByteRange& r) {
-                r.begin += db.line_start;
-                r.end += db.line_start;
-            };
-            if (!p.directive) {
-                shift(p.error_range);
-                if (report_unknown) make(*unknown_meta, p.error_range, db, p.error);
-                continue;
-            }
-            shift(p.directive->comment);
-            for (auto& id : p.directive->ids) shift(id.range);
-            const size_t di = directives.size();
-            directives.push_back(std::move(*p.directive));
-            directive_block.push_back(bi);
-            const SuppressionDirective& d = directives.back();
-            const bool file_scope = d.action == SuppressionDirective::Action::DisableFile;
-            const int64_t target = file_scope ? -1 : db.target;
-            for (size_t k = 0; k < d.ids.size(); ++k) {
-                const auto& id = d.ids[k];
-                std::string rule = upper(id.text);
-                const RuleMeta* meta = find_rule(rule);
-                if (!meta) {
-                    if (!report_unknown) continue;
-                    const RuleMeta* by_name = nullptr;
-                    for (const auto& m : all_rules())
-                        if (iequals(m.name, id.text)) by_name = &m;
-                    if (by_name)
-                        make(*unknown_meta, id.range, db,
-                             fmt::format("'{}' is the name of {}: suppressions name rules by ID, write {}", id.text,
-                                         by_name->id, by_name->id));
-                    else
-                        make(*unknown_meta, id.range, db,
-                             fmt::format("unknown rule '{}' in suppression: no rule has this ID, so the directive "
-                                         "silences nothing (see `osplint rules`)",
-                                         id.text));
-                    continue;
-                }
-                if (meta->id == "OSP001") {
-                    if (report_unknown)
-                        make(*unknown_meta, id.range, db,
-                             "OSP001 (syntax-error) cannot be suppressed: a block that does not parse would be "
-                             "passed over silently, and the control rejects it anyway; correct the block");
-                    continue;
-                }
-                if ((unknown_meta && meta->id == unknown_meta->id) || (unused_meta && meta->id == unused_meta->id)) {
-                    if (report_unknown)
-                        make(*unknown_meta, id.range, db,
-                             fmt::format("{} ({}) reports on the suppressions themselves and cannot be suppressed "
-                                         "by a directive; turn it off in osplint.toml ([rules]) or with --ignore",
-                                         meta->id, meta->name));
-                    continue;
-                }
-                entries.push_back({std::string(meta->id), di, k, target, file_scope, false});
-            }
-        }
-    }
-
-    // Blocks are lines: the block of line L is block L - 1.
-    for (auto& d : diagnostics) {
-        if (d.rule == "OSP001" || entries.empty()) {
-            out.diagnostics.push_back(std::move(d));
-            continue;
-        }
-        const int64_t block = static_cast<int64_t>(d.range.start.line) - 1;
-        Entry* by = nullptr;
-        for (auto& e : entries)
-            if (!e.file_scope && e.target >= 0 && e.target == block && e.rule == d.rule) {
-                e.used = true;
-                if (!by) by = &e;
-            }
-        if (!by)
-            for (auto& e : entries)
-                if (e.file_scope && e.rule == d.rule) {
-                    e.used = true;
-                    if (!by) by = &e;
-                }
-        if (!by) {
-            out.diagnostics.push_back(std::move(d));
-            continue;
-        }
-        const SuppressionDirective& dir = directives[by->directive];
-        const DirectiveBlock& db = blocks_[directive_block[by->directive]];
-        SuppressedDiagnostic s;
-        s.kind = SuppressedDiagnostic::Kind::InSource;
-        s.reason = dir.reason;
-        s.file_scope = by->file_scope;
-        s.directive = range_on(db, dir.comment);
-        s.diagnostic = std::move(d);
-        out.suppressed.push_back(std::move(s));
-    }
-
-    if (report_unused) {
-        for (const auto& e : entries) {
-            if (e.used) continue;
-            const SuppressionDirective& dir = directives[e.directive];
-            const DirectiveBlock& db = blocks_[directive_block[e.directive]];
-            const auto& id = dir.ids[e.index];
-            const RuleMeta* meta = find_rule(e.rule);
-            std::string message;
-            if (!rule_ran(*meta))
-                message = fmt::format("unused suppression: {} did not run (it is off in the configuration or not selected), so "
-                                      "the directive silences nothing",
-                                      e.rule);
-            else if (e.file_scope)
-                message = fmt::format("unused suppression: no {} finding in this file to silence; remove {} from "
-                                      "the directive",
-                                      e.rule, id.text);
-            else if (e.target < 0)
-                message = fmt::format("unused suppression: no block follows this directive, so {} is silenced "
-                                      "nowhere",
-                                      id.text);
-            else
-                message = fmt::format("unused suppression: no {} finding on {} to silence; remove {} from the "
-                                      "directive",
-                                      e.rule, static_cast<uint32_t>(e.target) == db.index
-                                                  ? std::string("this block")
-                                                  : fmt::format("the block it applies to (line {})", e.target + 1),
-                                      id.text);
-            Diagnostic& d = make(*unused_meta, id.range, db, std::move(message));
-            if (!dir.reason.empty()) d.notes.push_back({"reason given: " + dir.reason, std::nullopt});
-
-            size_t others_used = 0, others_total = dir.ids.size() - 1, unused_here = 0;
-            bool all_valid = true;
-            size_t valid_here = 0;
-            for (const auto& o : entries)
-                if (o.directive == e.directive) {
-                    ++valid_here;
-                    if (o.used) {
-                        if (o.index != e.index) ++others_used;
-                    } else {
-                        ++unused_here;
-                    }
-                }
-            if (valid_here != dir.ids.size()) all_valid = false;
-            if (all_valid && unused_here == dir.ids.size()) {
-                uint32_t b = dir.comment.begin;
-                while (b > db.line_start && is_blank(db.text[b - 1 - db.line_start])) --b;
-                const ByteRange cut{b, dir.comment.end};
-                d.fixes.push_back({"Remove the unused directive", {{range_on(db, cut), ""}}});
-            } else if (all_valid && unused_here == 1 && others_used == others_total && others_total > 0) {
-                const ByteRange cut = e.index + 1 < dir.ids.size()
-                                          ? ByteRange{id.range.begin, dir.ids[e.index + 1].range.begin}
-                                          : ByteRange{dir.ids[e.index - 1].range.end, id.range.end};
-                d.fixes.push_back({fmt::format("Remove {} from the directive", id.text), {{range_on(db, cut), ""}}});
-            }
-        }
-    }
-
-    for (auto& d : own) out.diagnostics.push_back(std::move(d));
-    std::stable_sort(out.diagnostics.begin(), out.diagnostics.end(), diagnostic_less);
-    std::stable_sort(out.suppressed.begin(), out.suppressed.end(),
-                     [](const SuppressedDiagnostic& a, const SuppressedDiagnostic& b) {
-                         return diagnostic_less(a.diagnostic, b.diagnostic);
-                     });
-    return out;
+    blocks_.clear();
+    return apply_directive_lines(lines, std::move(diagnostics), config_, options_);
 }
 
 // ---------------------------------------------------------------- checker
@@ -1432,12 +1117,10 @@ private:
             p.name_range = start.name->range;
         }
         const uint32_t n = static_cast<uint32_t>(blocks.size());
-        Labels labels;
+        const Labels labels = labels_of(blocks.data(), n);
         bool subprogram = library_;
         bool has_content = false;
-        for (uint32_t i = 0; i < n; ++i) {
-            const Block& bl = blocks[i];
-            if (bl.sequence) labels[bl.sequence->name].push_back(i);
+        for (const Block& bl : blocks) {
             if (bl.statement(StmtKind::Rts)) subprogram = true;
             if (bl.kind == LineKind::Block && !bl.is_empty()) has_content = true;
         }
@@ -1445,70 +1128,13 @@ private:
 
         positions_.program.set(text, static_cast<uint32_t>(start.offset), start.line);
         ctx_.begin_program(p.name, &labels, &blocks);
-        const Flow flow = build_flow(blocks, labels);
-        const Catalog& catalog = config_.catalog;
-
-        std::vector<std::optional<ModalState>> in(n);
-        in[0] = initial_state(config_, subprogram);
-        std::vector<std::optional<MacroCall>> calls(n);
-        std::optional<ModalState> final_state;
-        auto transfer = [&](uint32_t i, const ModalState& before) {
-            const Block& bl = blocks[i];
-            calls[i] = resolve_call(bl, before, catalog);
-            ModalState after = before;
-            apply_block(bl, calls[i] ? &*calls[i] : nullptr, catalog, after);
-            if (bl.block_delete) after.merge(before);
-            after.clear_one_shots();
-            return after;
-        };
-        auto flow_into = [&](uint32_t t, const ModalState& st) -> bool {
-            if (!in[t]) {
-                in[t] = st;
-                return true;
-            }
-            ModalState merged = *in[t];
-            merged.merge(st);
-            if (merged == *in[t]) return false;
-            in[t] = std::move(merged);
-            return true;
-        };
-        {
-            std::priority_queue<uint32_t, std::vector<uint32_t>, std::greater<>> work;
-            std::vector<bool> queued(n, false);
-            work.push(0);
-            queued[0] = true;
-            while (!work.empty()) {
-                const uint32_t i = work.top();
-                work.pop();
-                queued[i] = false;
-                ModalState after = transfer(i, *in[i]);
-                if (flow.exits[i]) {
-                    if (!final_state) final_state = after;
-                    else final_state->merge(after);
-                }
-                for (uint32_t t : flow.succ[i])
-                    if (flow_into(t, after) && !queued[t]) {
-                        queued[t] = true;
-                        work.push(t);
-                    }
-            }
-        }
-
-        ProgramView pv{p, nullptr, subprogram, final_state ? &*final_state : nullptr};
-        for (auto& r : rules_) r->begin_program(ctx_, pv);
-        const ModalState unknown_state;
-        for (uint32_t i = 0; i < n; ++i) {
-            const Block& bl = blocks[i];
-            const bool reachable = in[i].has_value();
-            const ModalState& before = reachable ? *in[i] : unknown_state;
-            if (!reachable) calls[i] = resolve_call(bl, before, catalog);
-            ModalState after = before;
-            apply_block(bl, calls[i] ? &*calls[i] : nullptr, catalog, after);
-            ctx_.set_block(&bl);
-            const BlockView view{bl, before, after, calls[i] ? &*calls[i] : nullptr, reachable};
-            for (auto& r : rules_) r->check_block(ctx_, view);
-        }
-        for (auto& r : rules_) r->end_program(ctx_, pv);
+        ProgramInput input;
+        input.blocks = blocks.data();
+        input.count = n;
+        input.program = &p;
+        input.subprogram = subprogram;
+        input.labels = &labels;
+        analyze_program(input, config_, ctx_, rules_, [&](uint32_t i) { ctx_.set_block(&blocks[i]); }, nullptr);
         ctx_.set_block(nullptr);
         ctx_.begin_program(std::string(), nullptr, nullptr);
         positions_.program = Window{};

@@ -85,9 +85,9 @@ Severity severity_for(const RuleMeta& m, const Config& config) {
 // One rule ID of one directive that names a rule a directive can silence.
 struct Entry {
     std::string rule;
-    size_t directive = 0;  // index into the directives
-    size_t index = 0;      // position in the directive's ID list
-    int64_t target = -1;   // block index; -1: no block (or file scope)
+    size_t directive = 0;      // index into the directives
+    size_t index = 0;          // position in the directive's ID list
+    uint32_t target_line = 0;  // the line it silences; 0: none (or file scope)
     bool file_scope = false;
     bool used = false;
 };
@@ -176,79 +176,104 @@ DirectiveParse parse_directive(std::string_view text, ByteRange comment) {
 
 SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagnostic> diagnostics,
                                      const Config& config, const AnalysisOptions& options) {
-    SuppressionResult out;
+    // The lines with directives; blocks are lines.
+    std::vector<DirectiveLine> lines;
     const std::string& text = file.source.text();
+    for (uint32_t bi = 0; bi < file.blocks.size(); ++bi) {
+        const Block& b = file.blocks[bi];
+        bool any = false;
+        for (const auto& c : b.comments)
+            if (parse_directive(text, c.range).is_directive) any = true;
+        if (!any) continue;
+        DirectiveLine l;
+        l.line = b.line;
+        l.line_start = file.source.line_start(b.line);
+        l.text = std::string(file.source.line_text(b.line));
+        l.program = std::string(program_of(file, bi));
+        for (size_t j = bi; j < file.blocks.size(); ++j)
+            if (has_content(file.blocks[j])) {
+                l.target_line = file.blocks[j].line;
+                break;
+            }
+        for (const auto& c : b.comments) l.comments.push_back(c.range);
+        lines.push_back(std::move(l));
+    }
+    return apply_directive_lines(lines, std::move(diagnostics), config, options);
+}
+
+namespace {
+
+// A position on a directive's line.
+Position position_on(const DirectiveLine& l, uint32_t offset) {
+    Position p;
+    p.line = l.line;
+    p.byte_col = offset - l.line_start;
+    const ColumnCount c = count_columns(std::string_view(l.text).substr(0, std::min<size_t>(p.byte_col, l.text.size())));
+    p.cp_col = c.cp;
+    p.utf16_col = c.utf16;
+    return p;
+}
+SourceRange range_on(const DirectiveLine& l, ByteRange r) { return SourceRange{r, position_on(l, r.begin), position_on(l, r.end)}; }
+
+}  // namespace
+
+SuppressionResult apply_directive_lines(const std::vector<DirectiveLine>& lines, std::vector<Diagnostic> diagnostics,
+                                        const Config& config, const AnalysisOptions& options) {
+    SuppressionResult out;
     const RuleMeta* unknown_meta = find_rule("OSP901");
     const RuleMeta* unused_meta = find_rule("OSP902");
     const bool report_unknown = unknown_meta && rule_ran(*unknown_meta, config, options);
     const bool report_unused = unused_meta && rule_ran(*unused_meta, config, options);
 
-    // Block of each line (blocks are lines; tolerate gaps).
-    std::vector<int64_t> block_of_line(file.source.line_count() + 2, -1);
-    for (size_t i = 0; i < file.blocks.size(); ++i) {
-        uint32_t line = file.blocks[i].line;
-        if (line < block_of_line.size()) block_of_line[line] = static_cast<int64_t>(i);
-    }
-    auto block_at_line = [&](uint32_t line) -> int64_t {
-        return line < block_of_line.size() ? block_of_line[line] : -1;
-    };
-
     std::vector<SuppressionDirective> directives;
-    std::vector<uint32_t> directive_block;  // the block each directive is written on
+    std::vector<size_t> directive_line;  // index into lines
     std::vector<Entry> entries;
     std::vector<Diagnostic> own;  // OSP901 / OSP902 findings
     std::map<std::string, int> occurrences;
 
-    auto make = [&](const RuleMeta& meta, ByteRange range, uint32_t block, std::string message) -> Diagnostic& {
+    auto make = [&](const RuleMeta& meta, ByteRange range, const DirectiveLine& l, std::string message) -> Diagnostic& {
         Diagnostic d;
         d.rule = std::string(meta.id);
         d.name = std::string(meta.name);
         d.severity = severity_for(meta, config);
         d.message = std::move(message);
-        d.range.bytes = range;
-        d.range.start = file.source.position(range.begin);
-        d.range.end = file.source.position(range.end);
-        d.line_text = std::string(file.source.line_text(d.range.start.line).substr(0, 1000));
+        d.range = range_on(l, range);
+        d.line_text = l.text.substr(0, 1000);
         // The directive's text identifies the finding, never its line number.
         std::string key;
-        std::string_view program = program_of(file, block);
-        std::string_view body = std::string_view(text).substr(range.begin, range.size());
+        const std::string_view body = std::string_view(l.text).substr(range.begin - l.line_start, range.size());
         for (char c : d.line_text)
             if (!std::isspace(static_cast<unsigned char>(c))) key += c;
         key += '|';
         key += body;
-        int occurrence = ++occurrences[fmt::format("{}|{}|{}", meta.id, program, key)];
-        d.fingerprint = make_fingerprint(meta.id, program, key, occurrence);
+        const int occurrence = ++occurrences[fmt::format("{}|{}|{}", meta.id, l.program, key)];
+        d.fingerprint = make_fingerprint(meta.id, l.program, key, occurrence);
         own.push_back(std::move(d));
         return own.back();
     };
 
-    for (uint32_t bi = 0; bi < file.blocks.size(); ++bi) {
-        const Block& b = file.blocks[bi];
-        for (const auto& c : b.comments) {
-            DirectiveParse p = parse_directive(text, c.range);
+    for (size_t li = 0; li < lines.size(); ++li) {
+        const DirectiveLine& l = lines[li];
+        for (const ByteRange& c : l.comments) {
+            DirectiveParse p = parse_directive(l.text, ByteRange{c.begin - l.line_start, c.end - l.line_start});
             if (!p.is_directive) continue;
+            auto shift = [&](ByteRange& r) {
+                r.begin += l.line_start;
+                r.end += l.line_start;
+            };
             if (!p.directive) {
-                if (report_unknown) make(*unknown_meta, p.error_range, bi, p.error);
+                shift(p.error_range);
+                if (report_unknown) make(*unknown_meta, p.error_range, l, p.error);
                 continue;
             }
+            shift(p.directive->comment);
+            for (auto& id : p.directive->ids) shift(id.range);
             const size_t di = directives.size();
             directives.push_back(std::move(*p.directive));
-            directive_block.push_back(bi);
+            directive_line.push_back(li);
             const SuppressionDirective& d = directives.back();
             const bool file_scope = d.action == SuppressionDirective::Action::DisableFile;
-            int64_t target = -1;
-            if (!file_scope) {
-                if (has_content(b)) {
-                    target = bi;
-                } else {
-                    for (size_t j = bi + 1; j < file.blocks.size(); ++j)
-                        if (has_content(file.blocks[j])) {
-                            target = static_cast<int64_t>(j);
-                            break;
-                        }
-                }
-            }
+            const uint32_t target = file_scope ? 0 : l.target_line;
             for (size_t k = 0; k < d.ids.size(); ++k) {
                 const auto& id = d.ids[k];
                 std::string rule = upper(id.text);
@@ -259,11 +284,11 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
                     for (const auto& m : all_rules())
                         if (iequals(m.name, id.text)) by_name = &m;
                     if (by_name)
-                        make(*unknown_meta, id.range, bi,
+                        make(*unknown_meta, id.range, l,
                              fmt::format("'{}' is the name of {}: suppressions name rules by ID, write {}", id.text,
                                          by_name->id, by_name->id));
                     else
-                        make(*unknown_meta, id.range, bi,
+                        make(*unknown_meta, id.range, l,
                              fmt::format("unknown rule '{}' in suppression: no rule has this ID, so the directive "
                                          "silences nothing (see `osplint rules`)",
                                          id.text));
@@ -271,14 +296,14 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
                 }
                 if (meta->id == "OSP001") {
                     if (report_unknown)
-                        make(*unknown_meta, id.range, bi,
+                        make(*unknown_meta, id.range, l,
                              "OSP001 (syntax-error) cannot be suppressed: a block that does not parse would be "
                              "passed over silently, and the control rejects it anyway; correct the block");
                     continue;
                 }
                 if ((unknown_meta && meta->id == unknown_meta->id) || (unused_meta && meta->id == unused_meta->id)) {
                     if (report_unknown)
-                        make(*unknown_meta, id.range, bi,
+                        make(*unknown_meta, id.range, l,
                              fmt::format("{} ({}) reports on the suppressions themselves and cannot be suppressed "
                                          "by a directive; turn it off in osplint.toml ([rules]) or with --ignore",
                                          meta->id, meta->name));
@@ -295,10 +320,9 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
             out.diagnostics.push_back(std::move(d));
             continue;
         }
-        const int64_t block = block_at_line(d.range.start.line);
         Entry* by = nullptr;
         for (auto& e : entries)
-            if (!e.file_scope && e.target >= 0 && e.target == block && e.rule == d.rule) {
+            if (!e.file_scope && e.target_line != 0 && e.target_line == d.range.start.line && e.rule == d.rule) {
                 e.used = true;
                 if (!by) by = &e;
             }
@@ -317,8 +341,7 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
         s.kind = SuppressedDiagnostic::Kind::InSource;
         s.reason = dir.reason;
         s.file_scope = by->file_scope;
-        s.directive = SourceRange{dir.comment, file.source.position(dir.comment.begin),
-                                  file.source.position(dir.comment.end)};
+        s.directive = range_on(lines[directive_line[by->directive]], dir.comment);
         s.diagnostic = std::move(d);
         out.suppressed.push_back(std::move(s));
     }
@@ -327,6 +350,7 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
         for (const auto& e : entries) {
             if (e.used) continue;
             const SuppressionDirective& dir = directives[e.directive];
+            const DirectiveLine& l = lines[directive_line[e.directive]];
             const auto& id = dir.ids[e.index];
             const RuleMeta* meta = find_rule(e.rule);
             std::string message;
@@ -338,25 +362,23 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
                 message = fmt::format("unused suppression: no {} finding in this file to silence; remove {} from "
                                       "the directive",
                                       e.rule, id.text);
-            else if (e.target < 0)
+            else if (e.target_line == 0)
                 message = fmt::format("unused suppression: no block follows this directive, so {} is silenced "
                                       "nowhere",
                                       id.text);
             else
                 message = fmt::format("unused suppression: no {} finding on {} to silence; remove {} from the "
                                       "directive",
-                                      e.rule, static_cast<uint32_t>(e.target) == directive_block[e.directive]
+                                      e.rule, e.target_line == l.line
                                                   ? std::string("this block")
-                                                  : fmt::format("the block it applies to (line {})",
-                                                                file.blocks[e.target].line),
+                                                  : fmt::format("the block it applies to (line {})", e.target_line),
                                       id.text);
-            Diagnostic& d = make(*unused_meta, id.range, directive_block[e.directive], std::move(message));
+            Diagnostic& d = make(*unused_meta, id.range, l, std::move(message));
             if (!dir.reason.empty()) d.notes.push_back({"reason given: " + dir.reason, std::nullopt});
 
             // A fix when it is unambiguous: drop the whole directive when nothing in
             // it is needed, or drop this one ID when every other ID is in use.
             size_t others_used = 0, others_total = dir.ids.size() - 1, unused_here = 0;
-            bool all_valid = true;
             size_t valid_here = 0;
             for (const auto& o : entries)
                 if (o.directive == e.directive) {
@@ -367,22 +389,17 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
                         ++unused_here;
                     }
                 }
-            if (valid_here != dir.ids.size()) all_valid = false;
+            const bool all_valid = valid_here == dir.ids.size();
             if (all_valid && unused_here == dir.ids.size()) {
                 uint32_t b = dir.comment.begin;
-                const uint32_t line_start = file.source.line_start(d.range.start.line);
-                while (b > line_start && is_blank(text[b - 1])) --b;
-                ByteRange cut{b, dir.comment.end};
-                d.fixes.push_back({"Remove the unused directive",
-                                   {{SourceRange{cut, file.source.position(cut.begin), file.source.position(cut.end)},
-                                     ""}}});
+                while (b > l.line_start && is_blank(l.text[b - 1 - l.line_start])) --b;
+                const ByteRange cut{b, dir.comment.end};
+                d.fixes.push_back({"Remove the unused directive", {{range_on(l, cut), ""}}});
             } else if (all_valid && unused_here == 1 && others_used == others_total && others_total > 0) {
-                ByteRange cut = e.index + 1 < dir.ids.size()
-                                    ? ByteRange{id.range.begin, dir.ids[e.index + 1].range.begin}
-                                    : ByteRange{dir.ids[e.index - 1].range.end, id.range.end};
-                d.fixes.push_back({fmt::format("Remove {} from the directive", id.text),
-                                   {{SourceRange{cut, file.source.position(cut.begin), file.source.position(cut.end)},
-                                     ""}}});
+                const ByteRange cut = e.index + 1 < dir.ids.size()
+                                          ? ByteRange{id.range.begin, dir.ids[e.index + 1].range.begin}
+                                          : ByteRange{dir.ids[e.index - 1].range.end, id.range.end};
+                d.fixes.push_back({fmt::format("Remove {} from the directive", id.text), {{range_on(l, cut), ""}}});
             }
         }
     }

@@ -74,6 +74,22 @@ struct SuppressionResult {
     std::vector<SuppressedDiagnostic> suppressed;  // sorted like diagnostics
 };
 
+// A line holding directive comments, as the pass needs it. Blocks are lines:
+// apply_suppressions makes these from a parsed file, the streaming check
+// collects them as it reads.
+struct DirectiveLine {
+    uint32_t line = 0;        // 1-based
+    uint32_t line_start = 0;  // byte offset of the line
+    std::string text;         // the line without its terminator
+    std::string program;      // the name of the program it belongs to
+    uint32_t target_line = 0; // the line `disable` silences (the next with content); 0: none
+    std::vector<ByteRange> comments;  // absolute offsets
+};
+
+// Applies the directives of `lines` (in file order) to `diagnostics`.
+SuppressionResult apply_directive_lines(const std::vector<DirectiveLine>& lines, std::vector<Diagnostic> diagnostics,
+                                        const Config& config, const AnalysisOptions& options);
+
 // Applies the directives of `file` to the findings `analyze` produced for it.
 // `options.only_rules` and `config` decide whether OSP901/OSP902 are reported,
 // exactly as they decide for every other rule.
