@@ -189,6 +189,13 @@ bool command_keyword(const char* name, uint32_t len) {
 // program repeat the previous block's shape, so the text often has the same
 // length (or is the same) and the generic assign can be skipped.
 OSPLINT_HOT void set_text(std::string& dst, const char* p, size_t n) {
+    // A length change within the capacity by the inline members (erase to
+    // shorten, push_back to lengthen): assign() is an out-of-line call.
+    if (dst.size() > n) {
+        dst.erase(n);
+    } else if (dst.size() < n && n <= dst.capacity() && n - dst.size() <= 4) {
+        while (dst.size() < n) dst.push_back('\0');
+    }
     if (dst.size() == n) {
         char* d = dst.data();
         if (n >= 4 && n <= 8) {  // two overlapping 4-byte moves
