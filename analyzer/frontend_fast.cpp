@@ -270,6 +270,7 @@ struct FastLineParser::Impl {
     Block* b = nullptr;
     int depth = 0;  // bracket nesting inside an expression
     bool plain = false;  // the last line is a plain move (simple_line)
+    bool sentinel = false;  // the terminator follows the text in memory (simple_line_in)
     // Deeper lines are left to the tree-sitter front end (bounded recursion here).
     static constexpr int kMaxDepth = 64;
 
@@ -859,6 +860,7 @@ struct FastLineParser::Impl {
         s = line.text.data();
         n = static_cast<uint32_t>(line.text.size());
         base = line.start;
+        sentinel = !line.terminator.empty() && line.terminator.data() == line.text.data() + line.text.size();
         b = &out;
         depth = 0;
         exprs_used = 0;
@@ -899,20 +901,28 @@ struct FastLineParser::Impl {
     // false on anything else, and parse_line starts again. Sets `plain` when
     // the words are all X/Y/Z/F or G0..G3 (is_plain_move_block).
     bool simple_line() {
+        return sentinel ? simple_line_in<true>() : simple_line_in<false>();
+    }
+
+    // With kSentinel, the byte at the end of the text is the line's terminator
+    // (LF or CR, in the same buffer): no class of the scans below includes
+    // it, so they stop there without comparing with the end.
+    template <bool kSentinel>
+    bool simple_line_in() {
         const char* q = s;
         const char* const e = s + n;
-        while (q < e && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
+        while ((kSentinel || q < e) && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
         if (q == e) return false;
         if (*q == 'N' || *q == 'n') {
             const char* t = q + 1;
             if (t == e || !(kClass[static_cast<unsigned char>(*t)] & kDigitClass)) return false;
-            while (t < e && (kClass[static_cast<unsigned char>(*t)] & kDigitClass)) ++t;
+            while ((kSentinel || t < e) && (kClass[static_cast<unsigned char>(*t)] & kDigitClass)) ++t;
             set_label(b->sequence, static_cast<uint32_t>(q - s), static_cast<uint32_t>(t - s));
             q = t;
         }
         bool all_plain = true;
         while (true) {
-            while (q < e && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
+            while ((kSentinel || q < e) && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
             if (q == e) break;
             if (!(kClass[static_cast<unsigned char>(*q)] & kWordClass) || q + 1 == e) return false;
             const char c = upper(*q);
@@ -922,12 +932,12 @@ struct FastLineParser::Impl {
             // The number: digits, then a point and digits (`12`, `3.`, `.5`).
             const char* const digits = t;
             uint64_t m = 0;
-            while (t < e && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
+            while ((kSentinel || t < e) && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
             size_t count = static_cast<size_t>(t - digits);
             size_t fraction = 0;
-            if (t < e && *t == '.') {
+            if ((kSentinel || t < e) && *t == '.') {
                 const char* const f = ++t;
-                while (t < e && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
+                while ((kSentinel || t < e) && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
                 fraction = static_cast<size_t>(t - f);
                 count += fraction;
             }
