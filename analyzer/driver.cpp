@@ -336,7 +336,6 @@ AnalysisResult analyze(const ProgramFile& file, const Config& config, const Anal
         rules.push_back(std::move(r));
     }
     if (options.keep_states) result.blocks.resize(file.blocks.size());
-    const Catalog& catalog = config.catalog;
 
     bool seen_main = false;
     for (const Program& p : file.programs) {
