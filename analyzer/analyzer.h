@@ -6,6 +6,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -51,6 +52,9 @@ AnalysisResult analyze(const ProgramFile& file, const Config& config, const Anal
 // (indices from the program's first block).
 using Labels = std::unordered_map<std::string, std::vector<uint32_t>>;
 Labels labels_of(const Block* blocks, uint32_t count);
+// Whether a file holds subprograms only (.SSB/.SUB/.LIB/.MSB): each of its
+// programs starts with an unknown state.
+bool file_is_subprogram_library(std::string_view path);
 // Whether a block ends its program where control reaches it (M02, M30, RTS).
 bool ends_program(const Block& block);
 
@@ -107,6 +111,15 @@ std::optional<int> code_of(const Word& word);
 // Reads the program names a file defines without parsing it fully.
 void collect_program_names(std::string_view text, ProgramNames& out);
 
+// A finding of `rule` as every analysis makes it: severity from the
+// configuration, its range, the first 1000 bytes of its line (no fingerprint).
+Diagnostic make_diagnostic(const RuleMeta& rule, const Config& config, std::string message, const SourceRange& range,
+                           std::string_view line_text);
+// The text that identifies a finding's block in its fingerprint, whatever its
+// line: the line with blanks folded and comments (`comments`, absolute
+// offsets) left out, so that neither a shifted line nor a comment added to the
+// block changes it. A comment-only line keeps its comments.
+std::string fingerprint_text(std::string_view line, uint32_t line_start, const std::vector<Comment>* comments);
 // Fingerprint of a finding: rule + program + normalised block text + occurrence.
 std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
                              int occurrence);

@@ -23,6 +23,14 @@ bool ends_program(const Block& b) {
     return false;
 }
 
+bool file_is_subprogram_library(std::string_view path) {
+    auto dot = path.rfind('.');
+    if (dot == std::string_view::npos) return false;
+    std::string ext;
+    for (char c : path.substr(dot + 1)) ext += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return ext == "SSB" || ext == "SUB" || ext == "LIB" || ext == "MSB";
+}
+
 Labels labels_of(const Block* blocks, uint32_t n) {
     Labels labels;
     for (uint32_t i = 0; i < n; ++i)
@@ -107,14 +115,6 @@ Flow build_flow(const Block* blocks, uint32_t n, const Labels& labels) {
     return f;
 }
 
-bool file_is_subprogram_library(std::string_view path) {
-    auto dot = path.rfind('.');
-    if (dot == std::string_view::npos) return false;
-    std::string ext;
-    for (char c : path.substr(dot + 1)) ext += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return ext == "SSB" || ext == "SUB" || ext == "LIB" || ext == "MSB";
-}
-
 class Context final : public RuleContext {
 public:
     Context(const ProgramFile& file, const Config& config, const ProgramNames* known)
@@ -144,14 +144,9 @@ public:
         return evaluate(block, e, state);
     }
     Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) override {
-        Diagnostic d;
-        d.rule = std::string(rule.id);
-        d.name = std::string(rule.name);
-        d.severity = config_.severity_of(rule.id, rule.severity, rule.enabled_by_default).value_or(rule.severity);
-        d.message = std::move(message);
-        d.range = resolve(range);
-        std::string_view lt = file_.source.line_text(d.range.start.line);
-        d.line_text = std::string(lt.substr(0, 1000));
+        const SourceRange where = resolve(range);
+        Diagnostic d = make_diagnostic(rule, config_, std::move(message), where,
+                                       file_.source.line_text(where.start.line));
         d.fingerprint = fingerprint_for(rule.id, range);
         diagnostics.push_back(std::move(d));
         return diagnostics.back();
@@ -166,31 +161,13 @@ public:
 
 private:
     std::string fingerprint_for(std::string_view rule, ByteRange range) {
-        // The block text identifies the finding independently of its line: blanks
-        // are folded and comments left out, so that neither a shifted line nor a
-        // comment added to the block (a suppression directive for another rule,
-        // a note) changes it. A finding on a comment-only line keeps the comments.
-        const std::string& text = file_.source.text();
-        uint32_t line = file_.source.line_of(range.begin);
-        const uint32_t line_start = file_.source.line_start(line);
-        std::string_view lt = file_.source.line_text(line);
+        const uint32_t line = file_.source.line_of(range.begin);
         const Block* block = nullptr;
         auto it = std::lower_bound(file_.blocks.begin(), file_.blocks.end(), line,
                                    [](const Block& b, uint32_t l) { return b.line < l; });
         if (it != file_.blocks.end() && it->line == line) block = &*it;
-        auto in_comment = [&](uint32_t offset) {
-            if (!block) return false;
-            for (const auto& c : block->comments)
-                if (c.range.contains(offset)) return true;
-            return false;
-        };
-        std::string norm;
-        for (uint32_t i = 0; i < lt.size(); ++i)
-            if (!std::isspace(static_cast<unsigned char>(lt[i])) && !in_comment(line_start + i)) norm += lt[i];
-        if (norm.empty())
-            for (char c : lt)
-                if (!std::isspace(static_cast<unsigned char>(c))) norm += c;
-        (void)text;
+        const std::string norm = fingerprint_text(file_.source.line_text(line), file_.source.line_start(line),
+                                                  block ? &block->comments : nullptr);
         std::string key = fmt::format("{}|{}|{}", rule, program_ ? program_->name : "", norm);
         int occurrence = ++occurrences_[key];
         return make_fingerprint(rule, program_ ? program_->name : "", norm, occurrence);
@@ -205,6 +182,34 @@ private:
 };
 
 }  // namespace
+
+Diagnostic make_diagnostic(const RuleMeta& rule, const Config& config, std::string message, const SourceRange& range,
+                           std::string_view line_text) {
+    Diagnostic d;
+    d.rule = std::string(rule.id);
+    d.name = std::string(rule.name);
+    d.severity = config.severity_of(rule.id, rule.severity, rule.enabled_by_default).value_or(rule.severity);
+    d.message = std::move(message);
+    d.range = range;
+    d.line_text = std::string(line_text.substr(0, 1000));
+    return d;
+}
+
+std::string fingerprint_text(std::string_view line, uint32_t line_start, const std::vector<Comment>* comments) {
+    auto in_comment = [&](uint32_t offset) {
+        if (!comments) return false;
+        for (const auto& c : *comments)
+            if (c.range.contains(offset)) return true;
+        return false;
+    };
+    std::string norm;
+    for (uint32_t i = 0; i < line.size(); ++i)
+        if (!std::isspace(static_cast<unsigned char>(line[i])) && !in_comment(line_start + i)) norm += line[i];
+    if (norm.empty())
+        for (char c : line)
+            if (!std::isspace(static_cast<unsigned char>(c))) norm += c;
+    return norm;
+}
 
 std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
                              int occurrence) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "source.h"
 
@@ -17,6 +18,11 @@ namespace osplint {
 // alone, not on its neighbours, and the streaming front end gives the same
 // block for it.
 ProgramFile parse_program_file(std::string path, std::string text);
+
+// Value of a decimal literal as the grammar lexes it (`12`, `3.`, `.5`, `00`),
+// correctly rounded (std::from_chars). Too many digits for a double give
+// infinity, or 0 after a leading point. Shared by both front ends.
+double decimal_literal_value(std::string_view digits);
 // The same without parsing error lines again (for a text of one line).
 ProgramFile parse_program_file_once(std::string path, std::string text);
 

@@ -55,81 +55,39 @@ constexpr auto kClass = [] {
 constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                              1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
-// Value of a decimal literal as the tree-sitter front end computes it
-// (std::from_chars, correctly rounded). Literals of at most 15 significant
-// digits with at most 22 after the point take the exact path: both the digits
-// as an integer and the power of ten are exact doubles, so their quotient is
-// the correctly rounded value.
-double decimal_value(std::string_view digits) {
+// Scans an unsigned number at t (`12`, `3.`, `.5`, `0404`), ending at e at the
+// latest, and computes its value in the same pass: at most 15 digits take
+// the exact path (the digits as an integer and the power of ten are exact
+// doubles, so their quotient is the correctly rounded value), longer ones
+// decimal_literal_value. Returns the end, or t when there is no number. With
+// kSentinel the byte at e is neither a digit nor a point (the line's
+// terminator), so the scans need not compare with e.
+template <bool kSentinel>
+OSPLINT_HOT const char* scan_number(const char* t, const char* e, double& value) {
+    const char* const start = t;
     uint64_t m = 0;
-    int significant = 0;
-    int fraction = -1;  // digits after the point, -1 before it
-    bool simple = !digits.empty();
-    for (char c : digits) {
-        if (c == '.') {
-            if (fraction >= 0) {
-                simple = false;
-                break;
-            }
-            fraction = 0;
-            continue;
-        }
-        if (c < '0' || c > '9') {
-            simple = false;
-            break;
-        }
-        if (m != 0 || c != '0') ++significant;
-        m = m * 10 + static_cast<uint64_t>(c - '0');
-        if (fraction >= 0) ++fraction;
-        if (significant > 15 || fraction > 22) {
-            simple = false;
-            break;
-        }
+    while ((kSentinel || t < e) && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
+    size_t count = static_cast<size_t>(t - start);
+    size_t fraction = 0;
+    if ((kSentinel || t < e) && *t == '.') {
+        const char* const f = t + 1;
+        const char* u = f;
+        while ((kSentinel || u < e) && static_cast<unsigned char>(*u - '0') < 10)
+            m = m * 10 + static_cast<uint64_t>(*u++ - '0');
+        fraction = static_cast<size_t>(u - f);
+        if (count == 0 && fraction == 0) return start;  // a point alone
+        count += fraction;
+        t = u;
+    } else if (count == 0) {
+        return start;
     }
-    if (simple) return fraction > 0 ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m);
-    double v = 0;
-    const char* first = digits.data();
-    const char* last = first + digits.size();
-    const auto res = std::from_chars(first, last, v, std::chars_format::fixed);
-    if (res.ec == std::errc::result_out_of_range) {
-        const bool fraction_only = !digits.empty() && digits.front() == '.';
-        return fraction_only ? 0.0 : std::numeric_limits<double>::infinity();
-    }
-    return v;
+    value = count <= 15 ? (fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m))
+                        : decimal_literal_value(std::string_view(start, static_cast<size_t>(t - start)));
+    return t;
 }
-
-// Scans an unsigned number (`12`, `3.`, `.5`, `0404`) at s[p] and computes its
-// value in the same pass (see decimal_value). Returns the end, or p when there
-// is no number.
-OSPLINT_HOT uint32_t scan_number(const char* s, uint32_t p, uint32_t n, double& value) {
-    uint32_t j = p;
-    uint64_t m = 0;
-    int significant = 0;
-    while (j < n && is_digit(s[j])) {
-        const uint64_t d = static_cast<uint64_t>(s[j] - '0');
-        significant += (m | d) != 0;
-        m = m * 10 + d;
-        ++j;
-    }
-    int fraction = 0;
-    if (j < n && s[j] == '.') {
-        if (j == p && !(j + 1 < n && is_digit(s[j + 1]))) return p;
-        ++j;
-        while (j < n && is_digit(s[j])) {
-            const uint64_t d = static_cast<uint64_t>(s[j] - '0');
-            significant += (m | d) != 0;
-            m = m * 10 + d;
-            ++fraction;
-            ++j;
-        }
-    } else if (j == p) {
-        return p;
-    }
-    if (significant <= 15 && fraction <= 22)
-        value = fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m);
-    else
-        value = decimal_value(std::string_view(s + p, j - p));
-    return j;
+// The same on s[p..n): returns the end offset, or p when there is no number.
+OSPLINT_HOT uint32_t scan_number_at(const char* s, uint32_t p, uint32_t n, double& value) {
+    return static_cast<uint32_t>(scan_number<false>(s + p, s + n, value) - s);
 }
 
 // Keyword classes of the scanner, for a name in upper case.
@@ -385,7 +343,7 @@ struct FastLineParser::Impl {
     // Number literal at p (unsigned): pushes a Number node, returns its end.
     uint32_t number(uint32_t p) {
         double v = 0;
-        const uint32_t j = scan_number(s, p, n, v);
+        const uint32_t j = scan_number_at(s, p, n, v);
         if (j == p) return kFail;
         // A letter right after the digits may make them a hex subscript token
         // (`002C`, also outside brackets: `X=5A1` does not parse); a second
@@ -559,7 +517,7 @@ struct FastLineParser::Impl {
         if (sign) ++j;
         const uint32_t digits = j;
         double v = 0;
-        j = scan_number(s, digits, n, v);
+        j = scan_number_at(s, digits, n, v);
         if (j == digits || (j < n && s[j] == '.')) return kFail;
         ExprNode& num = new_expr(ExprKind::Number, abs(digits, j));
         num.number = v;
@@ -648,7 +606,7 @@ struct FastLineParser::Impl {
         if (digits && e > p + 1) {
             const size_t wi = words_used - 1;
             ExprNode& num = new_expr(ExprKind::Number, abs(p + 1, e));
-            num.number = decimal_value(std::string_view(s + p + 1, e - p - 1));
+            num.number = decimal_literal_value(std::string_view(s + p + 1, e - p - 1));
             Word& ww = b->words[wi];
             ww.number = num.number;
             ww.value = last_expr();
@@ -929,23 +887,11 @@ struct FastLineParser::Impl {
             const char* t = q + 1;
             const char sign = (*t == '+' || *t == '-') ? *t : 0;
             if (sign) ++t;
-            // The number: digits, then a point and digits (`12`, `3.`, `.5`).
             const char* const digits = t;
-            uint64_t m = 0;
-            while ((kSentinel || t < e) && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
-            size_t count = static_cast<size_t>(t - digits);
-            size_t fraction = 0;
-            if ((kSentinel || t < e) && *t == '.') {
-                const char* const f = ++t;
-                while ((kSentinel || t < e) && static_cast<unsigned char>(*t - '0') < 10) m = m * 10 + static_cast<uint64_t>(*t++ - '0');
-                fraction = static_cast<size_t>(t - f);
-                count += fraction;
-            }
-            if (count == 0) return false;
+            double v = 0;
+            t = scan_number<kSentinel>(t, e, v);
+            if (t == digits) return false;
             if (t < e && !(kClass[static_cast<unsigned char>(*t)] & (kBlankClass | kLetterClass))) return false;
-            // At most 15 digits: the exact path of scan_number; else decimal_value.
-            const double v = count <= 15 ? (fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m))
-                                         : decimal_value(std::string_view(digits, static_cast<size_t>(t - digits)));
             const uint32_t p = static_cast<uint32_t>(q - s);
             const uint32_t j = static_cast<uint32_t>(t - s);
             Word& w = new_word();

@@ -132,20 +132,6 @@ bool is_alnum(unsigned char c) {
 }
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
 
-// Value of a decimal literal as the grammar lexes it (`12`, `3.`, `.5`, `00`).
-double decimal_value(std::string_view digits) {
-    double v = 0;
-    const char* first = digits.data();
-    const char* last = first + digits.size();
-    const auto res = std::from_chars(first, last, v, std::chars_format::fixed);
-    if (res.ec == std::errc::result_out_of_range) {
-        // Too many digits for a double: either huge or (all zeros after a
-        // leading dot) tiny.
-        const bool fraction_only = !digits.empty() && digits.front() == '.';
-        return fraction_only ? 0.0 : std::numeric_limits<double>::infinity();
-    }
-    return v;
-}
 
 // Value of hex digits (`81` of `#81H`, `002C`).
 double hex_value(std::string_view digits) {
@@ -881,7 +867,7 @@ private:
             sign = t[0];
             t.remove_prefix(1);
         }
-        const double v = decimal_value(t);
+        const double v = decimal_literal_value(t);
         ExprNode num;
         num.kind = ExprKind::Number;
         num.number = v;
@@ -925,7 +911,7 @@ private:
         if (!v.empty() && std::all_of(v.begin(), v.end(), [](char ch) { return ch >= '0' && ch <= '9'; })) {
             ExprNode num;
             num.kind = ExprKind::Number;
-            num.number = decimal_value(v);
+            num.number = decimal_literal_value(v);
             num.range = w.value_range;
             w.number = num.number;
             w.value = push(b, std::move(num));
@@ -1025,7 +1011,7 @@ private:
                 if (ts_node_is_missing(ch)) {
                     syntax_error(b, range_of(ch), "expected a loop number after " + std::string(kind == StmtKind::While ? "DO" : keyword));
                 } else {
-                    const double v = decimal_value(text(ch));
+                    const double v = decimal_literal_value(text(ch));
                     loop = v >= 0 && v <= 1e9 && v == std::floor(v) ? static_cast<int>(v) : -1;
                     if (loop < 0) error(b, range_of(ch), "loop number must be a whole number");
                 }
@@ -1126,7 +1112,7 @@ private:
         e.range = r;
         if (s == g_.number) {
             e.kind = ExprKind::Number;
-            e.number = decimal_value(text(n));
+            e.number = decimal_literal_value(text(n));
         } else if (s == g_.hex_constant) {
             const std::string_view t = text(n);  // #81H
             e.kind = ExprKind::HexConst;
@@ -1707,6 +1693,20 @@ std::vector<Program> split_programs(const std::vector<Block>& blocks) {
     }
     programs.back().end_block = static_cast<uint32_t>(blocks.size());
     return programs;
+}
+
+double decimal_literal_value(std::string_view digits) {
+    double v = 0;
+    const char* first = digits.data();
+    const char* last = first + digits.size();
+    const auto res = std::from_chars(first, last, v, std::chars_format::fixed);
+    if (res.ec == std::errc::result_out_of_range) {
+        // Too many digits for a double: either huge or (all zeros after a
+        // leading dot) tiny.
+        const bool fraction_only = !digits.empty() && digits.front() == '.';
+        return fraction_only ? 0.0 : std::numeric_limits<double>::infinity();
+    }
+    return v;
 }
 
 }  // namespace osplint

@@ -468,14 +468,6 @@ private:
 
 // ------------------------------------------------------------ the analysis
 
-bool file_is_subprogram_library(std::string_view path) {
-    auto dot = path.rfind('.');
-    if (dot == std::string_view::npos) return false;
-    std::string ext;
-    for (char c : path.substr(dot + 1)) ext += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return ext == "SSB" || ext == "SUB" || ext == "LIB" || ext == "MSB";
-}
-
 // Statements that make the control flow more than a straight line.
 bool has_flow_statement(const Block& b) {
     for (const auto& st : b.statements)
@@ -565,14 +557,9 @@ public:
     }
 
     Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) override {
-        Diagnostic d;
-        d.rule = std::string(rule.id);
-        d.name = std::string(rule.name);
-        d.severity = config_.severity_of(rule.id, rule.severity, rule.enabled_by_default).value_or(rule.severity);
-        d.message = std::move(message);
-        d.range = resolve(range);
-        d.line_text = positions_.line_text(d.range.start.line).substr(0, 1000);
-        d.fingerprint = fingerprint_for(rule.id, range, d.range.start.line);
+        const SourceRange where = resolve(range);
+        Diagnostic d = make_diagnostic(rule, config_, std::move(message), where, positions_.line_text(where.start.line));
+        d.fingerprint = fingerprint_for(rule.id, where.start.line);
         diagnostics.push_back(std::move(d));
         return diagnostics.back();
     }
@@ -610,23 +597,9 @@ public:
 private:
     // As the analyzer's Context: rule, program, the block's text with blanks
     // folded and comments left out, occurrence.
-    std::string fingerprint_for(std::string_view rule, ByteRange range, uint32_t line) {
-        (void)range;
+    std::string fingerprint_for(std::string_view rule, uint32_t line) {
         const LineData ld = positions_.line(line);
-        const std::vector<Comment>* comments = ld.ok ? comments_of(ld) : nullptr;
-        auto in_comment = [&](uint32_t offset) {
-            if (!comments) return false;
-            for (const auto& c : *comments)
-                if (c.range.contains(offset)) return true;
-            return false;
-        };
-        const std::string_view lt = ld.text;
-        std::string norm;
-        for (uint32_t i = 0; i < lt.size(); ++i)
-            if (!std::isspace(static_cast<unsigned char>(lt[i])) && !in_comment(ld.start + i)) norm += lt[i];
-        if (norm.empty())
-            for (char c : lt)
-                if (!std::isspace(static_cast<unsigned char>(c))) norm += c;
+        const std::string norm = fingerprint_text(ld.text, ld.start, ld.ok ? comments_of(ld) : nullptr);
         std::string key = fmt::format("{}|{}|{}", rule, program_, norm);
         const int occurrence = ++occurrences_[key];
         occurrence_log_.push_back(std::move(key));
@@ -692,7 +665,7 @@ public:
         } else if (b.program_name) {
             program_names_.push_back(b.program_name->name);
         }
-        const bool content = has_content(b);
+        const bool content = suppression_target(b);
         if (content) {
             for (size_t k : pending_) blocks_[k].target = index;
             pending_.clear();
@@ -725,10 +698,6 @@ private:
         int64_t target = -1;  // block index (= line - 1) of the next block with content
         std::vector<ByteRange> comments;
     };
-    static bool has_content(const Block& b) {
-        return b.kind == LineKind::Block && (!b.is_empty() || !b.errors.empty());
-    }
-
     const Config& config_;
     const AnalysisOptions& options_;
     uint32_t next_index_ = 0;

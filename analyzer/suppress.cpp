@@ -67,9 +67,6 @@ private:
     uint32_t pos_, end_;
 };
 
-// Whether a block is something a `disable` directive can apply to: executable
-// content, or a line the parser could not read (its OSP001 stays reported).
-bool has_content(const Block& b) { return b.kind == LineKind::Block && (!b.is_empty() || !b.errors.empty()); }
 
 // Rules that ran in this analysis, by the same logic as analyze().
 bool rule_ran(const RuleMeta& m, const Config& config, const AnalysisOptions& options) {
@@ -100,6 +97,10 @@ std::string_view program_of(const ProgramFile& file, uint32_t block) {
 }
 
 }  // namespace
+
+bool suppression_target(const Block& b) {
+    return b.kind == LineKind::Block && (!b.is_empty() || !b.errors.empty());
+}
 
 DirectiveParse parse_directive(std::string_view text, ByteRange comment) {
     DirectiveParse out;
@@ -191,7 +192,7 @@ SuppressionResult apply_suppressions(const ProgramFile& file, std::vector<Diagno
         l.text = std::string(file.source.line_text(b.line));
         l.program = std::string(program_of(file, bi));
         for (size_t j = bi; j < file.blocks.size(); ++j)
-            if (has_content(file.blocks[j])) {
+            if (suppression_target(file.blocks[j])) {
                 l.target_line = file.blocks[j].line;
                 break;
             }

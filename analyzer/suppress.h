@@ -66,6 +66,10 @@ struct DirectiveParse {
     ByteRange error_range;
 };
 
+// Whether a block is something a `disable` directive can apply to: executable
+// content, or a line the parser could not read (its OSP001 stays reported).
+bool suppression_target(const Block& b);
+
 // Reads the comment at `comment` (parentheses included) of `text`.
 DirectiveParse parse_directive(std::string_view text, ByteRange comment);
 
