@@ -19,7 +19,7 @@
 #include <thread>
 #include <vector>
 
-#include "analyzer/lsp_server.h"
+#include "lsp/server.h"
 
 using namespace osplint::lsp;
 using Clock = std::chrono::steady_clock;

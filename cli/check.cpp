@@ -15,12 +15,12 @@
 #include <mutex>
 #include <thread>
 
-#include "analyzer/baseline.h"
-#include "analyzer/errors.h"
-#include "analyzer/formats.h"
-#include "analyzer/report.h"
-#include "analyzer/stream.h"
-#include "analyzer/sarif.h"
+#include "engine/baseline.h"
+#include "support/errors.h"
+#include "output/formats.h"
+#include "output/report.h"
+#include "engine/stream.h"
+#include "output/sarif.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"

@@ -6,7 +6,7 @@
 #include <iostream>
 #include <string_view>
 
-#include "analyzer/lsp_server.h"
+#include "lsp/server.h"
 
 namespace osplint::cli {
 

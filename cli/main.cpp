@@ -10,9 +10,9 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "analyzer/embedded.h"
-#include "analyzer/errors.h"
-#include "analyzer/report.h"
+#include "support/embedded.h"
+#include "support/errors.h"
+#include "output/report.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "analyzer/frontend.h"
-#include "analyzer/motion.h"
+#include "syntax/frontend.h"
+#include "semantics/motion.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 

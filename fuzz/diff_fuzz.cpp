@@ -13,10 +13,10 @@
 #include <cstdlib>
 #include <string>
 
-#include "frontend.h"
-#include "frontend_fast.h"
+#include "syntax/frontend.h"
+#include "syntax/frontend_fast.h"
 #include "osplint/osplint.h"
-#include "stream.h"
+#include "engine/stream.h"
 
 using namespace osplint;
 

@@ -1,5 +1,5 @@
 // OSP001 syntax-error: every place the grammar cannot parse.
-#include "analyzer/rule.h"
+#include "engine/rule.h"
 
 namespace osplint {
 namespace {

@@ -1,6 +1,6 @@
 // OSP002 undefined-jump-target: GOTO / IF / a LAP-style N reference names a
 // sequence name that the program does not define.
-#include "analyzer/rule.h"
+#include "engine/rule.h"
 
 namespace osplint {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "analyzer/rule.h"
+#include "engine/rule.h"
 
 namespace osplint {
 namespace {

@@ -1,7 +1,7 @@
 // OSP004 missing-program-end: a main program without M02/M30, a subprogram without RTS.
 #include <cctype>
 
-#include "analyzer/rule.h"
+#include "engine/rule.h"
 
 namespace osplint {
 namespace {

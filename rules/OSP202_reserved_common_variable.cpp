@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "analyzer/eval.h"
+#include "semantics/eval.h"
 #include "macro_support.h"
 
 namespace osplint {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <set>
 
-#include "analyzer/config.h"
-#include "analyzer/motion.h"
+#include "semantics/config.h"
+#include "semantics/motion.h"
 #include "macro_support.h"
 
 namespace osplint {

@@ -6,7 +6,7 @@
 #include <functional>
 #include <set>
 
-#include "analyzer/motion.h"
+#include "semantics/motion.h"
 #include "macro_support.h"
 
 namespace osplint {

@@ -1,6 +1,6 @@
 // OSP303 cycle-axis-unbounded: the cycle-axis envelope of a macro call or a
 // fixed-cycle hole cannot be bounded, so OSP301 cannot check it.
-#include "analyzer/motion.h"
+#include "semantics/motion.h"
 #include "macro_support.h"
 
 namespace osplint {

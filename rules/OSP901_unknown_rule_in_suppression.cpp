@@ -4,7 +4,7 @@
 // The findings come from the suppression pass (analyzer/suppress.cpp), which
 // runs after the rules over the file's comments; this rule only carries the
 // metadata so that the rule is listed, documented and configurable.
-#include "analyzer/rule.h"
+#include "engine/rule.h"
 
 namespace osplint {
 namespace {

@@ -3,7 +3,7 @@
 //
 // The findings come from the suppression pass (analyzer/suppress.cpp); this
 // rule only carries the metadata.
-#include "analyzer/rule.h"
+#include "engine/rule.h"
 
 namespace osplint {
 namespace {

@@ -8,8 +8,8 @@
 #include <vector>
 #include <string_view>
 
-#include "analyzer/catalog.h"
-#include "analyzer/rule.h"
+#include "catalog/catalog.h"
+#include "engine/rule.h"
 
 namespace osplint::macro {
 

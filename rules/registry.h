@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "analyzer/rule.h"
+#include "engine/rule.h"
 
 namespace osplint {
 

@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "analyzer/analyzer.h"
-#include "analyzer/config.h"
-#include "analyzer/diagnostic.h"
-#include "analyzer/suppress.h"
+#include "engine/analyzer.h"
+#include "semantics/config.h"
+#include "support/diagnostic.h"
+#include "engine/suppress.h"
 
 namespace osplint {
 

@@ -8,8 +8,8 @@
 #include <sstream>
 #include <string>
 
-#include "catalog.h"
-#include "errors.h"
+#include "catalog/catalog.h"
+#include "support/errors.h"
 
 using namespace osplint;
 

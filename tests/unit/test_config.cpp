@@ -2,8 +2,8 @@
 // ConfigError that names the file, the line and the key.
 #include <doctest/doctest.h>
 
-#include "analyzer/config.h"
-#include "analyzer/errors.h"
+#include "semantics/config.h"
+#include "support/errors.h"
 
 using namespace osplint;
 

@@ -27,12 +27,12 @@
 #include <string>
 #include <vector>
 
-#include "analyzer.h"
-#include "config.h"
-#include "frontend.h"
-#include "frontend_fast.h"
+#include "engine/analyzer.h"
+#include "semantics/config.h"
+#include "syntax/frontend.h"
+#include "syntax/frontend_fast.h"
 #include "osplint/osplint.h"
-#include "stream.h"
+#include "engine/stream.h"
 
 namespace fs = std::filesystem;
 using namespace osplint;

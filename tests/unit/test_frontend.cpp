@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "frontend.h"
+#include "syntax/frontend.h"
 
 using namespace osplint;
 

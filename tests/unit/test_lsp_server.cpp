@@ -10,7 +10,7 @@
 #include <random>
 #include <thread>
 
-#include "analyzer/lsp_server.h"
+#include "lsp/server.h"
 
 using namespace osplint;
 using namespace osplint::lsp;

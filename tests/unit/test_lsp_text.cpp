@@ -8,10 +8,10 @@
 #include <random>
 #include <sstream>
 
-#include "analyzer/frontend.h"
-#include "analyzer/lsp_jsonrpc.h"
-#include "analyzer/lsp_text.h"
-#include "analyzer/lsp_transport.h"
+#include "syntax/frontend.h"
+#include "lsp/jsonrpc.h"
+#include "lsp/text.h"
+#include "lsp/transport.h"
 
 using namespace osplint;
 using namespace osplint::lsp;

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "analyzer/frontend.h"
+#include "syntax/frontend.h"
 #include "osplint/osplint.h"
 
 using namespace osplint;

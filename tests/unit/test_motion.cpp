@@ -17,8 +17,8 @@
 
 #include <unistd.h>
 
-#include "analyzer/frontend.h"
-#include "analyzer/motion.h"
+#include "syntax/frontend.h"
+#include "semantics/motion.h"
 #include "expectations.h"
 #include "osplint/osplint.h"
 

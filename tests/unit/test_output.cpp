@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analyzer/formats.h"
-#include "analyzer/report.h"
-#include "analyzer/sarif.h"
+#include "output/formats.h"
+#include "output/report.h"
+#include "output/sarif.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"
 

@@ -12,8 +12,8 @@
 #include <filesystem>
 #include <regex>
 
-#include "analyzer/embedded.h"
-#include "analyzer/programs.h"
+#include "support/embedded.h"
+#include "engine/programs.h"
 #include "expectations.h"
 #include "rules/registry.h"
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "source.h"
+#include "syntax/source.h"
 
 using namespace osplint;
 

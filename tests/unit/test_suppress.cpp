@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <string>
 
-#include "analyzer/baseline.h"
-#include "analyzer/suppress.h"
+#include "engine/baseline.h"
+#include "engine/suppress.h"
 #include "osplint/osplint.h"
 
 using namespace osplint;

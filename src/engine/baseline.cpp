@@ -1,0 +1,149 @@
+#include "engine/baseline.h"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace osplint {
+
+std::string baseline_path(const std::string& checked_path, const fs::path& baseline_file) {
+    std::error_code ec;
+    fs::path abs = fs::absolute(fs::path(checked_path), ec).lexically_normal();
+    fs::path dir = fs::absolute(baseline_file, ec).parent_path().lexically_normal();
+    if (ec) return fs::path(checked_path).generic_string();
+    fs::path rel = abs.lexically_relative(dir);
+    if (rel.empty()) rel = abs;
+    return rel.generic_string();
+}
+
+Baseline make_baseline(const std::vector<FileResult>& results, const fs::path& baseline_file) {
+    Baseline b;
+    b.tool_version = std::string(version());
+    for (const auto& r : results) {
+        if (!r.io_error.empty()) continue;
+        std::string path = baseline_path(r.path, baseline_file);
+        for (const auto& d : r.diagnostics) b.entries.push_back({path, d.rule, d.fingerprint});
+    }
+    std::sort(b.entries.begin(), b.entries.end(), [](const BaselineEntry& x, const BaselineEntry& y) {
+        return std::tie(x.path, x.rule, x.fingerprint) < std::tie(y.path, y.rule, y.fingerprint);
+    });
+    return b;
+}
+
+std::string render_baseline(const Baseline& baseline) {
+    // One entry per line: reviewable, and diffs stay small when findings change.
+    auto str = [](const std::string& s) {
+        return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    };
+    std::string out = "{\n  \"version\": 1,\n  \"tool\": {\"name\": \"osplint\", \"version\": " +
+                      str(baseline.tool_version) + "},\n  \"entries\": [";
+    for (size_t i = 0; i < baseline.entries.size(); ++i) {
+        const auto& e = baseline.entries[i];
+        out += i ? ",\n    " : "\n    ";
+        out += "{\"path\": " + str(e.path) + ", \"rule\": " + str(e.rule) + ", \"fingerprint\": " +
+               str(e.fingerprint) + "}";
+    }
+    out += baseline.entries.empty() ? "]\n}\n" : "\n  ]\n}\n";
+    return out;
+}
+
+Baseline parse_baseline(std::string_view text, const std::string& origin) {
+    auto fail = [&](const std::string& why) -> std::runtime_error {
+        return std::runtime_error("baseline " + origin + ": " + why);
+    };
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw fail(std::string("not valid JSON (") + e.what() + ")");
+    }
+    if (!j.is_object()) throw fail("expected a JSON object");
+    if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<int>() != 1)
+        throw fail("unsupported version (this osplint reads baseline version 1)");
+    Baseline b;
+    if (j.contains("tool") && j["tool"].is_object() && j["tool"].contains("version") &&
+        j["tool"]["version"].is_string())
+        b.tool_version = j["tool"]["version"].get<std::string>();
+    if (!j.contains("entries") || !j["entries"].is_array()) throw fail("missing the \"entries\" array");
+    size_t i = 0;
+    for (const auto& e : j["entries"]) {
+        auto field = [&](const char* name) {
+            if (!e.is_object() || !e.contains(name) || !e[name].is_string())
+                throw fail("entry " + std::to_string(i) + " lacks the string \"" + name + "\"");
+            return e[name].get<std::string>();
+        };
+        b.entries.push_back({field("path"), field("rule"), field("fingerprint")});
+        ++i;
+    }
+    return b;
+}
+
+Baseline load_baseline(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw std::runtime_error("baseline " + file.string() + ": cannot be read");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return parse_baseline(ss.str(), file.string());
+}
+
+void write_baseline(const Baseline& baseline, const fs::path& file) {
+    fs::path tmp = file;
+    tmp += ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw std::runtime_error("baseline " + file.string() + ": cannot be written");
+        out << render_baseline(baseline);
+        out.flush();
+        if (!out) throw std::runtime_error("baseline " + file.string() + ": write error");
+    }
+    std::error_code ec;
+    fs::rename(tmp, file, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw std::runtime_error("baseline " + file.string() + ": cannot be written");
+    }
+}
+
+size_t apply_baseline(std::vector<FileResult>& results, const Baseline& baseline, const fs::path& baseline_file) {
+    std::map<std::tuple<std::string, std::string, std::string>, size_t> remaining;
+    for (const auto& e : baseline.entries) ++remaining[{e.path, e.rule, e.fingerprint}];
+    const std::string reason = "recorded in the baseline " + baseline_file.filename().string();
+    size_t moved = 0;
+    for (auto& r : results) {
+        if (r.diagnostics.empty()) continue;
+        std::string path = baseline_path(r.path, baseline_file);
+        std::vector<Diagnostic> kept;
+        bool any = false;
+        for (auto& d : r.diagnostics) {
+            auto it = remaining.find({path, d.rule, d.fingerprint});
+            if (it == remaining.end() || it->second == 0) {
+                kept.push_back(std::move(d));
+                continue;
+            }
+            --it->second;
+            SuppressedDiagnostic s;
+            s.kind = SuppressedDiagnostic::Kind::Baseline;
+            s.reason = reason;
+            s.diagnostic = std::move(d);
+            r.suppressed.push_back(std::move(s));
+            any = true;
+            ++moved;
+        }
+        r.diagnostics = std::move(kept);
+        if (any)
+            std::stable_sort(r.suppressed.begin(), r.suppressed.end(),
+                             [](const SuppressedDiagnostic& a, const SuppressedDiagnostic& b) {
+                                 return diagnostic_less(a.diagnostic, b.diagnostic);
+                             });
+    }
+    return moved;
+}
+
+}  // namespace osplint

@@ -1,0 +1,50 @@
+// Language server: what the requests answer, computed from the program model,
+// the analysis and the catalog. Pure functions of their inputs (no server
+// state, no I/O), so each is tested on its own.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/analyzer.h"
+#include "semantics/config.h"
+#include "lsp/text.h"
+
+namespace osplint::lsp {
+
+inline constexpr std::string_view kSource = "osplint";
+inline constexpr std::string_view kRuleDocBase = "https://github.com/osplint/osplint/blob/main/docs/rules/";
+
+// --- diagnostics ---------------------------------------------------------
+// One LSP Diagnostic: range, severity, code, codeDescription, source,
+// message, relatedInformation (notes with a range), data {version, fixes}.
+json to_lsp_diagnostic(const Diagnostic& d, const std::string& uri, Encoding enc, int64_t version);
+json publish_params(const std::string& uri, int64_t version, const std::vector<Diagnostic>& diags, Encoding enc);
+
+// --- hover ---------------------------------------------------------------
+// `states` is an analysis of `file` with keep_states (per-block modal state
+// and resolved calls). Returns null when there is nothing to say.
+json hover(const ProgramFile& file, const AnalysisResult& states, const Config& config, uint32_t offset, Encoding enc);
+
+// Meaning of a common G or M code ("G81", "M52"), or nullopt.
+std::optional<std::string_view> code_meaning(std::string_view code);
+// The Markdown documentation of one macro argument; `plane` 17/18/19 or 0 (unknown).
+std::string argument_doc(const MacroSpec& spec, const ArgSpec& arg, int plane, const ModalState* state);
+
+// --- completion ----------------------------------------------------------
+// `line` is the whole line, `column` the cursor as a byte offset in it;
+// `programs` are subprogram names defined in the file and beside it.
+json completion(std::string_view line, uint32_t column, const Config& config, const ProgramNames& programs);
+
+// --- code actions --------------------------------------------------------
+// Quick fixes from the fixes carried in the diagnostics' data, and a
+// suppression comment per rule. `text` and `version` are the document now.
+json code_actions(const std::string& uri, const json& params, const SourceText& text, int64_t version, Encoding enc);
+
+// --- document symbols ----------------------------------------------------
+json document_symbols(const ProgramFile& file, Encoding enc);
+
+}  // namespace osplint::lsp

@@ -1,0 +1,572 @@
+#include "lsp/server.h"
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+
+#include "support/errors.h"
+#include "lsp/features.h"
+#include "osplint/osplint.h"
+#include "engine/suppress.h"
+
+namespace fs = std::filesystem;
+
+namespace osplint::lsp {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+const json& field(const json& obj, const char* key) {
+    if (!obj.is_object()) throw std::invalid_argument("params must be an object");
+    auto it = obj.find(key);
+    if (it == obj.end()) throw std::invalid_argument(std::string("missing '") + key + "'");
+    return *it;
+}
+
+std::string uri_of(const json& params) {
+    const json& td = field(params, "textDocument");
+    const json& uri = field(td, "uri");
+    if (!uri.is_string()) throw std::invalid_argument("textDocument.uri must be a string");
+    return uri.get<std::string>();
+}
+
+bool is_subprogram_file(const fs::path& p) {
+    std::string ext = p.extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return ext == ".SSB" || ext == ".SUB" || ext == ".LIB" || ext == ".MSB";
+}
+
+bool ends_with_ci(std::string_view s, std::string_view suffix) {
+    if (s.size() < suffix.size()) return false;
+    for (std::size_t i = 0; i < suffix.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(s[s.size() - suffix.size() + i])) !=
+            std::tolower(static_cast<unsigned char>(suffix[i])))
+            return false;
+    return true;
+}
+
+}  // namespace
+
+// --- configuration -----------------------------------------------------------
+
+std::shared_ptr<const Config> ConfigCache::defaults() {
+    if (!defaults_) defaults_ = std::make_shared<const Config>();
+    return defaults_;
+}
+
+void ConfigCache::invalidate() {
+    std::lock_guard lock(m_);
+    entries_.clear();
+}
+
+ConfigCache::Lookup ConfigCache::get(const std::optional<fs::path>& dir) {
+    std::lock_guard lock(m_);
+    Lookup out;
+    std::optional<fs::path> file = dir ? find_config(*dir) : std::nullopt;
+    if (!file) {
+        out.config = defaults();
+        return out;
+    }
+    std::error_code ec;
+    const auto mtime = fs::last_write_time(*file, ec);
+    const auto size = ec ? 0 : fs::file_size(*file, ec);
+    const std::string key = file->string();
+    auto it = entries_.find(key);
+    if (it != entries_.end() && it->second.mtime == mtime && it->second.size == size) {
+        out.config = it->second.config;
+        return out;
+    }
+    out.reloaded = it != entries_.end();
+    Entry e;
+    e.mtime = mtime;
+    e.size = size;
+    try {
+        e.config = std::make_shared<const Config>(load_config(*file));
+    } catch (const std::exception& ex) {
+        e.config = defaults();
+        out.error = std::string("osplint: configuration error: ") + ex.what() + " (using the defaults)";
+    }
+    out.config = e.config;
+    entries_[key] = std::move(e);
+    return out;
+}
+
+// --- the session -------------------------------------------------------------
+
+Server::Server(ByteSource& in, ByteSink& out, ServerOptions options)
+    : reader_(in), writer_(out), options_(std::move(options)) {
+    worker_ = std::thread([this] { worker_loop(); });
+}
+
+Server::~Server() {
+    {
+        std::lock_guard lock(m_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    if (worker_.joinable()) worker_.join();
+}
+
+void Server::send(const json& message) { writer_.send(message); }
+
+void Server::log(const std::string& message) {
+    if (options_.log) options_.log(message);
+}
+
+int Server::run() {
+    for (;;) {
+        ReadResult r = reader_.next();
+        if (r.kind == ReadResult::Eof) break;
+        if (r.kind == ReadResult::Error) {
+            log("refused input: " + r.problem);
+            send(make_error(nullptr, error::kParseError, r.problem));
+            continue;
+        }
+        Incoming in = classify(r.body);
+        if (in.kind == Incoming::Invalid) {
+            send(make_error(in.id, in.error_code, in.problem));
+            continue;
+        }
+        if (in.kind == Incoming::Response) continue;  // answers to our requests
+        if (in.kind == Incoming::Notification && in.method == "exit") return state_ == State::ShutDown ? 0 : 1;
+        try {
+            if (in.kind == Incoming::Request)
+                on_request(in.id, in.method, in.params);
+            else
+                on_notification(in.method, in.params);
+        } catch (const std::invalid_argument& e) {
+            if (in.kind == Incoming::Request)
+                send(make_error(in.id, error::kInvalidParams, e.what()));
+            else
+                log(in.method + ": " + e.what());
+        } catch (const json::exception& e) {
+            if (in.kind == Incoming::Request)
+                send(make_error(in.id, error::kInvalidParams, e.what()));
+            else
+                log(in.method + ": " + e.what());
+        } catch (const std::exception& e) {
+            if (in.kind == Incoming::Request)
+                send(make_error(in.id, error::kInternalError, e.what()));
+            else
+                log(in.method + ": " + e.what());
+        }
+    }
+    return state_ == State::ShutDown ? 0 : 1;
+}
+
+void Server::on_request(const json& id, const std::string& method, const json& params) {
+    if (state_ == State::Uninitialized && method != "initialize") {
+        send(make_error(id, error::kServerNotInitialized, "the server is not initialized"));
+        return;
+    }
+    if (state_ == State::ShutDown) {
+        send(make_error(id, error::kInvalidRequest, "the server is shut down"));
+        return;
+    }
+    if (method == "initialize") {
+        if (state_ != State::Uninitialized) {
+            send(make_error(id, error::kInvalidRequest, "initialize may be sent only once"));
+            return;
+        }
+        json result = initialize(params);
+        state_ = State::Running;
+        send(make_response(id, std::move(result)));
+        return;
+    }
+    if (method == "shutdown") {
+        state_ = State::ShutDown;
+        send(make_response(id, nullptr));
+        return;
+    }
+    if (method == "textDocument/hover" || method == "textDocument/completion" || method == "textDocument/codeAction" ||
+        method == "textDocument/documentSymbol") {
+        const std::string uri = uri_of(params);
+        {
+            std::lock_guard lock(m_);
+            auto it = docs_.find(uri);
+            if (it != docs_.end()) {
+                it->second.pending.push_back({id, method, params});
+                cv_.notify_all();
+                return;
+            }
+        }
+        // Not an open document.
+        send(make_response(id, method == "textDocument/hover" ? json(nullptr) : json::array()));
+        return;
+    }
+    send(make_error(id, error::kMethodNotFound, "method not supported: " + method));
+}
+
+void Server::on_notification(const std::string& method, const json& params) {
+    if (state_ != State::Running) return;  // dropped before initialize and after shutdown
+    if (method == "initialized") {
+        if (watch_registration_) {
+            json watchers = json::array(
+                {{{"globPattern", "**/osplint.toml"}}, {{"globPattern", "**/*.{SSB,SUB,LIB,MSB,ssb,sub,lib,msb}"}}});
+            send(make_request("osplint/watch", "client/registerCapability",
+                              {{"registrations", json::array({{{"id", "osplint-watched-files"},
+                                                               {"method", "workspace/didChangeWatchedFiles"},
+                                                               {"registerOptions", {{"watchers", watchers}}}}})}}));
+        }
+    } else if (method == "textDocument/didOpen") {
+        did_open(params);
+    } else if (method == "textDocument/didChange") {
+        did_change(params);
+    } else if (method == "textDocument/didClose") {
+        did_close(params);
+    } else if (method == "textDocument/didSave") {
+        const std::string uri = uri_of(params);
+        std::lock_guard lock(m_);
+        if (auto it = docs_.find(uri); it != docs_.end()) {
+            it->second.dirty = true;
+            it->second.changed = Clock::now() - options_.debounce;
+            cv_.notify_all();
+        }
+    } else if (method == "workspace/didChangeWatchedFiles") {
+        bool relevant = false;
+        if (params.is_object() && params.contains("changes") && params["changes"].is_array())
+            for (const auto& c : params["changes"]) {
+                const std::string uri = c.is_object() ? c.value("uri", "") : "";
+                if (ends_with_ci(uri, "osplint.toml")) {
+                    configs_.invalidate();
+                    relevant = true;
+                } else if (is_subprogram_file(fs::path(uri))) {
+                    names_stale_ = true;
+                    relevant = true;
+                }
+            }
+        if (relevant) mark_all_dirty();
+    } else if (method == "workspace/didChangeConfiguration") {
+        mark_all_dirty();
+    } else if (method == "$/cancelRequest") {
+        if (params.is_object() && params.contains("id")) cancel(params["id"]);
+    }
+    // Other notifications ($/setTrace, ...) are ignored.
+}
+
+json Server::initialize(const json& params) {
+    json caps = params.is_object() && params.contains("capabilities") ? params["capabilities"] : json::object();
+    encoding_ = negotiate_encoding(caps);
+    if (params.is_object()) {
+        if (params.contains("rootUri") && params["rootUri"].is_string())
+            root_ = uri_to_path(params["rootUri"].get<std::string>());
+        else if (params.contains("rootPath") && params["rootPath"].is_string())
+            root_ = params["rootPath"].get<std::string>();
+        if (params.contains("workspaceFolders") && params["workspaceFolders"].is_array() &&
+            !params["workspaceFolders"].empty() && params["workspaceFolders"][0].is_object() &&
+            params["workspaceFolders"][0].contains("uri") && params["workspaceFolders"][0]["uri"].is_string())
+            if (auto p = uri_to_path(params["workspaceFolders"][0]["uri"].get<std::string>())) root_ = p;
+    }
+    if (caps.is_object() && caps.contains("workspace") && caps["workspace"].is_object()) {
+        const json& ws = caps["workspace"];
+        if (ws.contains("didChangeWatchedFiles") && ws["didChangeWatchedFiles"].is_object())
+            watch_registration_ = ws["didChangeWatchedFiles"].value("dynamicRegistration", false);
+    }
+    json capabilities = {
+        {"positionEncoding", std::string(encoding_name(encoding_))},
+        {"textDocumentSync", {{"openClose", true}, {"change", 2}, {"save", {{"includeText", false}}}}},
+        {"hoverProvider", true},
+        {"completionProvider", {{"triggerCharacters", json::array({" "})}, {"resolveProvider", false}}},
+        {"codeActionProvider", {{"codeActionKinds", json::array({"quickfix"})}}},
+        {"documentSymbolProvider", true},
+    };
+    return json{{"capabilities", capabilities},
+                {"serverInfo", {{"name", "osplint"}, {"version", std::string(version())}}}};
+}
+
+void Server::did_open(const json& params) {
+    const json& td = field(params, "textDocument");
+    const std::string uri = uri_of(params);
+    const json& text = field(td, "text");
+    if (!text.is_string()) throw std::invalid_argument("textDocument.text must be a string");
+    Document d;
+    d.uri = uri;
+    d.path = uri_to_path(uri);
+    d.text = text.get<std::string>();
+    d.version = td.contains("version") && td["version"].is_number_integer() ? td["version"].get<int64_t>() : 0;
+    d.changed = Clock::now() - options_.debounce;  // the first analysis starts at once
+    std::lock_guard lock(m_);
+    d.generation = next_generation_++;
+    if (auto it = docs_.find(uri); it != docs_.end()) {
+        for (const auto& p : it->second.pending)
+            send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+    }
+    docs_[uri] = std::move(d);
+    cv_.notify_all();
+}
+
+void Server::did_change(const json& params) {
+    const std::string uri = uri_of(params);
+    const json& td = field(params, "textDocument");
+    const json& changes = field(params, "contentChanges");
+    if (!changes.is_array()) throw std::invalid_argument("contentChanges must be an array");
+    std::unique_lock lock(m_);
+    auto it = docs_.find(uri);
+    if (it == docs_.end()) {
+        lock.unlock();
+        log("didChange for a document that is not open: " + uri);
+        return;
+    }
+    Document& d = it->second;
+    // Apply to a copy: a malformed event leaves the document as it was.
+    std::string text = d.text;
+    for (const auto& c : changes) apply_change(text, c, encoding_);
+    d.text = std::move(text);
+    if (td.contains("version") && td["version"].is_number_integer())
+        d.version = td["version"].get<int64_t>();
+    else
+        ++d.version;
+    d.dirty = true;
+    d.changed = Clock::now();
+    cv_.notify_all();
+}
+
+void Server::did_close(const json& params) {
+    const std::string uri = uri_of(params);
+    std::lock_guard lock(m_);
+    auto it = docs_.find(uri);
+    if (it == docs_.end()) return;
+    for (const auto& p : it->second.pending)
+        send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+    docs_.erase(it);
+    send(make_notification("textDocument/publishDiagnostics", {{"uri", uri}, {"diagnostics", json::array()}}));
+    cv_.notify_all();
+}
+
+void Server::mark_all_dirty() {
+    std::lock_guard lock(m_);
+    const auto now = Clock::now();
+    for (auto& [uri, d] : docs_) {
+        d.dirty = true;
+        d.changed = now;
+    }
+    cv_.notify_all();
+}
+
+void Server::cancel(const json& id) {
+    std::lock_guard lock(m_);
+    for (auto& [uri, d] : docs_) {
+        auto it = std::find_if(d.pending.begin(), d.pending.end(), [&](const Pending& p) { return p.id == id; });
+        if (it != d.pending.end()) {
+            send(make_error(id, error::kRequestCancelled, "cancelled"));
+            d.pending.erase(it);
+            return;
+        }
+    }
+}
+
+// --- the worker ----------------------------------------------------------------
+
+void Server::worker_loop() {
+    std::unique_lock lock(m_);
+    for (;;) {
+        if (stop_) return;
+        // Forget the models of closed documents.
+        for (auto it = models_.begin(); it != models_.end();) {
+            auto d = docs_.find(it->first);
+            if (d == docs_.end() || d->second.generation != it->second.generation)
+                it = models_.erase(it);
+            else
+                ++it;
+        }
+        const auto now = Clock::now();
+        Document* pick = nullptr;
+        auto next_due = Clock::time_point::max();
+        for (auto& [uri, d] : docs_) {
+            if (!d.pending.empty()) {  // a request waits: no debounce
+                pick = &d;
+                break;
+            }
+            if (!d.dirty) continue;
+            const auto due = d.changed + options_.debounce;
+            if (due <= now && !pick) pick = &d;
+            next_due = std::min(next_due, due);
+        }
+        if (!pick) {
+            if (next_due == Clock::time_point::max())
+                cv_.wait(lock);
+            else
+                cv_.wait_until(lock, next_due);
+            continue;
+        }
+        Job job;
+        job.uri = pick->uri;
+        job.path = pick->path;
+        job.generation = pick->generation;
+        job.version = pick->version;
+        auto model = models_.find(job.uri);
+        if (pick->dirty || model == models_.end() || model->second.generation != job.generation) {
+            job.has_text = true;
+            job.text = pick->text;
+            pick->dirty = false;
+        }
+        job.pending = std::move(pick->pending);
+        pick->pending.clear();
+        lock.unlock();
+        try {
+            run_job(job);
+        } catch (const std::exception& e) {
+            log(std::string("analysis failed: ") + e.what());
+            for (const auto& p : job.pending) send(make_error(p.id, error::kInternalError, e.what()));
+        }
+        lock.lock();
+    }
+}
+
+std::optional<fs::path> Server::config_dir(const std::optional<std::string>& path) const {
+    if (path) {
+        fs::path dir = fs::path(*path).parent_path();
+        return dir.empty() ? fs::path(".") : dir;
+    }
+    if (root_) return fs::path(*root_);
+    return std::nullopt;
+}
+
+void Server::collect_known(Model& m, const std::optional<std::string>& path) {
+    m.known.clear();
+    if (names_stale_.exchange(false)) names_cache_.clear();
+    // Subprogram files beside the document (.SSB/.SUB/.LIB/.MSB).
+    if (path) {
+        fs::path dir = fs::path(*path).parent_path();
+        if (dir.empty()) dir = ".";
+        std::error_code ec;
+        for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+            if (!is_subprogram_file(it->path())) continue;
+            std::error_code e2;
+            if (!it->is_regular_file(e2)) continue;
+            const auto size = it->file_size(e2);
+            const auto mtime = it->last_write_time(e2);
+            if (e2 || size > (64u << 20)) continue;
+            auto& entry = names_cache_[it->path().string()];
+            if (entry.mtime != mtime || entry.size != size || entry.names.empty()) {
+                std::ifstream in(it->path(), std::ios::binary);
+                std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+                entry.names.clear();
+                collect_program_names(text, entry.names);
+                entry.mtime = mtime;
+                entry.size = size;
+            }
+            m.known.insert(entry.names.begin(), entry.names.end());
+        }
+    }
+    // Programs of the other open documents, as last analysed.
+    for (const auto& [uri, other] : models_) {
+        if (&other == &m) continue;
+        for (const auto& p : other.file.programs)
+            if (!p.name.empty()) m.known.insert(p.name);
+    }
+}
+
+void Server::update_model(Model& m, Job& job) {
+    auto lookup = configs_.get(config_dir(job.path));
+    if (!lookup.error.empty()) {
+        log(lookup.error);
+        send(make_notification("window/showMessage", {{"type", 1}, {"message", lookup.error}}));
+    }
+    if (lookup.reloaded) {
+        // Other documents were analysed with the old configuration.
+        std::lock_guard lock(m_);
+        for (auto& [uri, d] : docs_)
+            if (uri != job.uri) {
+                d.dirty = true;
+                d.changed = Clock::now();
+            }
+        cv_.notify_all();
+    }
+    if (m.generation != job.generation) {
+        m = Model{};
+        m.generation = job.generation;
+    }
+    m.file.path = job.path ? *job.path : job.uri;
+    const auto t0 = Clock::now();
+    const ReparseStats parsed = reparse(m.file, std::move(job.text));
+    const auto t1 = Clock::now();
+    m.version = job.version;
+    m.config = lookup.config;
+    m.states.reset();
+    collect_known(m, job.path);
+    AnalysisOptions opts;
+    opts.known_programs = &m.known;
+    opts.keep_states = m.file.source.size() < options_.keep_states_below;
+    AnalysisResult r = analyze(m.file, *m.config, opts);
+    // The same findings as `osplint check`: directives in the file apply.
+    m.diagnostics = apply_suppressions(m.file, std::move(r.diagnostics), *m.config, opts).diagnostics;
+    if (opts.keep_states) m.states = std::move(r);
+    if (options_.log_timing) {
+        const auto t2 = Clock::now();
+        auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+        log(job.uri + " v" + std::to_string(job.version) + ": " +
+            (parsed.full ? "full parse " : "re-parsed " + std::to_string(parsed.lines_parsed) + " line(s) ") +
+            std::to_string(ms(t0, t1)) + " ms, rules " + std::to_string(ms(t1, t2)) + " ms, " +
+            std::to_string(m.diagnostics.size()) + " finding(s)");
+    }
+}
+
+const AnalysisResult& Server::states_of(Model& m) {
+    if (!m.states) {
+        AnalysisOptions opts;
+        opts.known_programs = &m.known;
+        opts.keep_states = true;
+        m.states = analyze(m.file, *m.config, opts);
+    }
+    return *m.states;
+}
+
+void Server::run_job(Job& job) {
+    Model& m = models_[job.uri];
+    if (job.has_text) {
+        try {
+            update_model(m, job);
+        } catch (const std::exception& e) {
+            // Never leave a document without a model: keep the text, report.
+            log(std::string("analysis failed: ") + e.what());
+            send(make_notification("window/showMessage",
+                                   {{"type", 1}, {"message", std::string("osplint: analysis failed: ") + e.what()}}));
+            m.diagnostics.clear();
+            m.states.reset();
+            if (!m.config) m.config = configs_.get(std::nullopt).config;
+        }
+        std::lock_guard lock(m_);
+        auto it = docs_.find(job.uri);
+        if (it != docs_.end() && it->second.generation == job.generation && it->second.version == job.version)
+            send(make_notification("textDocument/publishDiagnostics",
+                                   publish_params(job.uri, job.version, m.diagnostics, encoding_)));
+        // else: the document changed or closed meanwhile; these results are outdated.
+    }
+    const bool current = m.generation == job.generation && m.config;
+    for (const auto& p : job.pending) {
+        json result;
+        try {
+            result = answer(p, m, current);
+        } catch (const std::invalid_argument& e) {
+            send(make_error(p.id, error::kInvalidParams, e.what()));
+            continue;
+        } catch (const json::exception& e) {
+            send(make_error(p.id, error::kInvalidParams, e.what()));
+            continue;
+        }
+        send(make_response(p.id, std::move(result)));
+    }
+}
+
+json Server::answer(const Pending& p, Model& m, bool current) {
+    const bool is_hover = p.method == "textDocument/hover";
+    if (!current) return is_hover ? json(nullptr) : json::array();
+    if (p.method == "textDocument/documentSymbol") return document_symbols(m.file, encoding_);
+    if (p.method == "textDocument/codeAction") {
+        field(p.params, "context");
+        return code_actions(uri_of(p.params), p.params, m.file.source, m.version, encoding_);
+    }
+    const uint32_t offset = from_lsp_position(m.file.source, field(p.params, "position"), encoding_);
+    if (is_hover) return hover(m.file, states_of(m), *m.config, offset, encoding_);
+    // Completion: the line up to the cursor, the programs known here.
+    const uint32_t line = m.file.source.line_of(offset);
+    const uint32_t column = offset - m.file.source.line_start(line);
+    ProgramNames programs = m.known;
+    for (const auto& prog : m.file.programs)
+        if (!prog.name.empty()) programs.insert(prog.name);
+    return completion(m.file.source.line_text(line), column, *m.config, programs);
+}
+
+}  // namespace osplint::lsp

@@ -1,0 +1,173 @@
+// Language server, layers 3-4: the LSP session and its analysis worker.
+//
+//   transport (lsp_transport) -> JSON-RPC (lsp_jsonrpc) -> this file: lifecycle,
+//   documents, scheduling -> features (lsp_features) -> the shared analysis
+//   engine (frontend + analyze(), the same as `osplint check`).
+//
+// The message loop (run()) only reads, classifies and records: document text
+// is kept here, every request about a document and every analysis is handed
+// to one worker thread. The worker owns the parsed model of each document,
+// re-parses only the lines an edit touched (lsp_text.h), re-runs the rules,
+// publishes the diagnostics unless the document changed meanwhile, and then
+// answers the requests that waited for that version.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "engine/analyzer.h"
+#include "semantics/config.h"
+#include "lsp/jsonrpc.h"
+#include "lsp/text.h"
+
+namespace osplint::lsp {
+
+struct ServerOptions {
+    // Quiet time after an edit before the analysis starts.
+    std::chrono::milliseconds debounce{10};
+    // Files up to this size are analysed with the modal state kept, so hover
+    // needs no second run; larger ones get it on the first hover.
+    std::size_t keep_states_below = 256u << 10;
+    // Diagnostics about the server itself (stderr for `osplint lsp`).
+    std::function<void(const std::string&)> log;
+    // Also log the time each analysis took (parse, rules, publish).
+    bool log_timing = false;
+};
+
+// Configuration per directory: the nearest osplint.toml, reloaded when its
+// modification time or size changes; a broken file gives the defaults and
+// an error message to show once.
+class ConfigCache {
+public:
+    struct Lookup {
+        std::shared_ptr<const Config> config;
+        std::string error;      // set when a file was (re)loaded and is broken
+        bool reloaded = false;  // a file changed since it was last read
+    };
+    Lookup get(const std::optional<std::filesystem::path>& dir);
+    void invalidate();
+
+private:
+    struct Entry {
+        std::filesystem::file_time_type mtime{};
+        std::uintmax_t size = 0;
+        std::shared_ptr<const Config> config;
+    };
+    std::shared_ptr<const Config> defaults();
+    std::mutex m_;
+    std::map<std::string, Entry> entries_;
+    std::shared_ptr<const Config> defaults_;
+};
+
+class Server {
+public:
+    Server(ByteSource& in, ByteSink& out, ServerOptions options = {});
+    ~Server();
+    Server(const Server&) = delete;
+    Server& operator=(const Server&) = delete;
+
+    // Runs the message loop until `exit` or the end of the input. Returns the
+    // process exit code: 0 after shutdown, 1 otherwise.
+    int run();
+
+private:
+    enum class State { Uninitialized, Running, ShutDown };
+
+    struct Pending {
+        json id;
+        std::string method;
+        json params;
+    };
+
+    struct Document {
+        std::string uri;
+        std::optional<std::string> path;  // for file:// URIs
+        std::string text;
+        int64_t version = 0;
+        uint64_t generation = 0;  // distinguishes a reopened document
+        bool dirty = true;
+        std::chrono::steady_clock::time_point changed{};
+        std::vector<Pending> pending;
+    };
+
+    // The worker's model of one document.
+    struct Model {
+        uint64_t generation = 0;
+        int64_t version = -1;
+        ProgramFile file;
+        std::shared_ptr<const Config> config;
+        ProgramNames known;
+        std::vector<Diagnostic> diagnostics;
+        std::optional<AnalysisResult> states;
+    };
+
+    struct Job {
+        std::string uri;
+        std::optional<std::string> path;
+        uint64_t generation = 0;
+        int64_t version = 0;
+        bool has_text = false;
+        std::string text;
+        std::vector<Pending> pending;
+    };
+
+    void handle(std::string_view body);
+    void on_request(const json& id, const std::string& method, const json& params);
+    void on_notification(const std::string& method, const json& params);
+    json initialize(const json& params);
+    void did_open(const json& params);
+    void did_change(const json& params);
+    void did_close(const json& params);
+    void mark_all_dirty();
+    void cancel(const json& id);
+    void send(const json& message);
+    void log(const std::string& message);
+
+    void worker_loop();
+    void run_job(Job& job);
+    void update_model(Model& m, Job& job);
+    const AnalysisResult& states_of(Model& m);
+    json answer(const Pending& p, Model& m, bool current);
+    std::optional<std::filesystem::path> config_dir(const std::optional<std::string>& path) const;
+    void collect_known(Model& m, const std::optional<std::string>& path);
+
+    FrameReader reader_;
+    MessageWriter writer_;
+    ServerOptions options_;
+    State state_ = State::Uninitialized;
+    Encoding encoding_ = Encoding::Utf16;
+    std::optional<std::string> root_;
+    bool watch_registration_ = false;
+
+    std::mutex m_;  // guards docs_, stop_ (and is held while publishing)
+    std::condition_variable cv_;
+    std::map<std::string, Document> docs_;
+    bool stop_ = false;
+    uint64_t next_generation_ = 1;
+
+    // Worker thread only.
+    std::map<std::string, Model> models_;
+    struct NamesEntry {
+        std::filesystem::file_time_type mtime{};
+        std::uintmax_t size = 0;
+        ProgramNames names;
+    };
+    std::map<std::string, NamesEntry> names_cache_;
+    std::atomic<bool> names_stale_{false};
+
+    ConfigCache configs_;
+    std::thread worker_;
+};
+
+}  // namespace osplint::lsp

@@ -1,0 +1,132 @@
+#include "semantics/modal.h"
+
+#include <fmt/format.h>
+
+namespace osplint {
+
+PlaneAxes plane_axes(Plane p) {
+    switch (p) {
+        case Plane::G17: return {'X', 'Y', 'Z'};
+        case Plane::G18: return {'Z', 'X', 'Y'};
+        case Plane::G19: return {'Y', 'Z', 'X'};
+    }
+    return {'X', 'Y', 'Z'};
+}
+
+const char* plane_name(Plane p) {
+    switch (p) {
+        case Plane::G17: return "G17";
+        case Plane::G18: return "G18";
+        case Plane::G19: return "G19";
+    }
+    return "?";
+}
+
+namespace {
+
+void merge_cycle(Val<std::optional<ActiveCycle>>& a, const Val<std::optional<ActiveCycle>>& b) {
+    if (!a.known) return;
+    if (!b.known) {
+        a = {};
+        return;
+    }
+    if (a.value == b.value) return;
+    if (!a.value || !b.value || a.value->code != b.value->code || a.value->macro != b.value->macro) {
+        a = {};
+        return;
+    }
+    ActiveCycle& c = *a.value;
+    const ActiveCycle& d = *b.value;
+    if (c.start_line != d.start_line) c.start_line = 0;
+    if (!(c.start_range == d.start_range)) c.start_range = {};
+    c.r.merge(d.r);
+    c.z.merge(d.z);
+    c.initial.merge(d.initial);
+    // Keep the addresses given on both sides; presence is no longer exact when
+    // one side has an address the other lacks.
+    if (!d.words_known) c.words_known = false;
+    for (auto it = c.words.begin(); it != c.words.end();) {
+        auto jt = d.words.find(it->first);
+        if (jt == d.words.end()) {
+            c.words_known = false;
+            it = c.words.erase(it);
+        } else {
+            it->second.merge(jt->second);
+            ++it;
+        }
+    }
+    for (const auto& [k, v] : d.words)
+        if (!c.words.count(k)) c.words_known = false;
+}
+
+}  // namespace
+
+void ModalState::merge(const ModalState& o) {
+    plane.merge(o.plane);
+    distance.merge(o.distance);
+    units.merge(o.units);
+    motion.merge(o.motion);
+    work_offset.merge(o.work_offset);
+    length_offset.merge(o.length_offset);
+    length_offset_h.merge(o.length_offset_h);
+    cutter_comp.merge(o.cutter_comp);
+    cutter_comp_d.merge(o.cutter_comp_d);
+    g71_level.merge(o.g71_level);
+    return_level.merge(o.return_level);
+    merge_cycle(cycle, o.cycle);
+    cycle_return.merge(o.cycle_return);
+    modin.merge(o.modin);
+    spindle.merge(o.spindle);
+    spindle_stopped_by.merge(o.spindle_stopped_by);
+    spindle_speed.merge(o.spindle_speed);
+    speed_commanded.merge(o.speed_commanded);
+    sync_tap.merge(o.sync_tap);
+    coolant.merge(o.coolant);
+    feed.merge(o.feed);
+    overrides_disabled.merge(o.overrides_disabled);
+    x.merge(o.x);
+    y.merge(o.y);
+    z.merge(o.z);
+    for (auto it = vars.begin(); it != vars.end();) {
+        auto jt = o.vars.find(it->first);
+        if (jt == o.vars.end() || jt->second != it->second)
+            it = vars.erase(it);
+        else
+            ++it;
+    }
+    ncyl = ncyl || o.ncyl;
+    noex = noex || o.noex;
+    g100 = g100 || o.g100;
+}
+
+namespace {
+template <class T, class F>
+std::string show(const Val<T>& v, F f) {
+    return v.known ? f(v.value) : std::string("?");
+}
+std::string num(double d) { return fmt::format("{:g}", d); }
+}  // namespace
+
+std::string describe_state(const ModalState& s) {
+    std::string out;
+    out += show(s.plane, [](Plane p) { return std::string(plane_name(p)); });
+    out += " " + show(s.distance, [](Distance d) { return std::string(d == Distance::Absolute ? "G90" : "G91"); });
+    out += " " + show(s.units, [](Units u) { return std::string(u == Units::Mm ? "mm" : "inch"); });
+    out += " cycle=" + show(s.cycle, [](const std::optional<ActiveCycle>& c) {
+        if (!c) return std::string("none");
+        return c->macro.empty() ? fmt::format("G{}", c->code) : fmt::format("G{}({})", c->code, c->macro);
+    });
+    out += " modin=" + show(s.modin, [](const std::optional<ActiveModin>& m) {
+        return m ? m->macro : std::string("none");
+    });
+    out += " H=" + show(s.length_offset_h, num);
+    out += " D=" + show(s.cutter_comp_d, num);
+    out += " pos=(" + show(s.x, num) + "," + show(s.y, num) + "," + show(s.z, num) + ")";
+    out += " ret=" + show(s.cycle_return, [](CycleReturn r) { return std::string(r == CycleReturn::Initial ? "G98" : "G99"); });
+    out += "/" + show(s.return_level, [](int l) { return l ? fmt::format("M{}", l) : std::string("-"); });
+    out += " motion=" + show(s.motion, [](int m) { return fmt::format("G{}", m); });
+    out += " S=" + show(s.spindle, [](int m) { return fmt::format("M{}", m); });
+    return out;
+}
+
+}  // namespace osplint

@@ -1,0 +1,175 @@
+// Modal state of the control, computed once per block and shared by all rules.
+//
+// Every field is a `Val<T>`: either known (with a value) or unknown. The state
+// at a block is the merge of the states flowing into it (textual predecessor,
+// every jump to its sequence name, loop back edges); fields that differ become
+// unknown. Rules never fire on an unknown field.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "syntax/model.h"
+
+namespace osplint {
+
+template <class T>
+struct Val {
+    bool known = false;
+    T value{};
+
+    static Val of(T v) { return Val{true, std::move(v)}; }
+    static Val unknown() { return Val{}; }
+    bool is(const T& v) const { return known && value == v; }
+    // Merge: equal known values stay, anything else becomes unknown.
+    void merge(const Val& o) {
+        if (!known) return;
+        if (!o.known || !(value == o.value)) *this = Val{};
+    }
+    friend bool operator==(const Val&, const Val&) = default;
+};
+
+enum class Units : uint8_t { Mm, Inch };
+enum class Distance : uint8_t { Absolute, Incremental };  // G90 / G91
+enum class Plane : uint8_t { G17, G18, G19 };
+enum class CycleReturn : uint8_t { Initial, R };  // G98 / G99
+
+// Axis letters of a plane: first and second positioning axes, cycle axis.
+struct PlaneAxes {
+    char first, second, cycle;
+};
+PlaneAxes plane_axes(Plane p);
+const char* plane_name(Plane p);  // "G17"
+
+// An active fixed cycle (G73..G89, G77, G78, G186, ... or a registered G-code
+// macro cycle such as G114): its code and the values commanded so far.
+struct ActiveCycle {
+    int code = 0;                  // 81, 84, 114, ...
+    std::string macro;             // "OG84L" when the cycle is a G-code macro, else empty
+    uint32_t start_line = 0;       // block that started it (0: differs between paths)
+    ByteRange start_range;         // the G word that started it (empty: differs between paths)
+    Val<double> r, z;              // R and Z as commanded (meaning depends on G90/G91)
+    Val<double> initial;           // cycle-axis position when the cycle was commanded
+    // The other addresses commanded since the cycle started (Q, K, J, P, I, L,
+    // FA, ...; not the axes, R or G/M/N), with their values when known. They are
+    // modal within the cycle. `words_known` is false when paths that reach a
+    // block disagree on which addresses were given: then absence proves nothing.
+    std::map<std::string, Val<double>> words;
+    bool words_known = true;
+    friend bool operator==(const ActiveCycle&, const ActiveCycle&) = default;
+
+    bool given(const std::string& address) const { return words.count(address) > 0; }
+    // Known to be absent: not commanded on any path since the cycle started.
+    bool known_absent(const std::string& address) const { return words_known && !words.count(address); }
+};
+
+// The macro of an open MODIN, with its arguments as commanded.
+struct ActiveModin {
+    std::string macro;  // "OG87C"
+    uint32_t line = 0;  // the MODIN block
+    // Argument name -> known numeric value (absent: not given or value unknown).
+    std::map<std::string, double> values;
+    std::vector<std::string> given;  // every argument name given on the MODIN line
+    friend bool operator==(const ActiveModin&, const ActiveModin&) = default;
+};
+
+struct ModalState {
+    // The state every program of the file starts with is in `initial_state`
+    // (analyzer.h); a default-constructed state has every field unknown.
+    Val<Plane> plane;
+    Val<Distance> distance;
+    Val<Units> units;
+    Val<int> motion;  // 0, 1, 2, 3 or 60 (G60 is in the interpolation group on OSP)
+    Val<double> work_offset;             // G15 H
+    Val<bool> length_offset;             // G56 active (true) / G53 cancelled (false)
+    Val<double> length_offset_h;         // H of G56
+    Val<int> cutter_comp;                // 40, 41, 42
+    Val<double> cutter_comp_d;           // D
+    Val<double> g71_level;               // G71 Z..
+    Val<int> return_level;               // 52, 53, 54; 0 = none commanded yet (G98/G99 decide)
+    Val<std::optional<ActiveCycle>> cycle;    // known none / known cycle / unknown
+    Val<CycleReturn> cycle_return;            // G98 / G99
+    Val<std::optional<ActiveModin>> modin;    // known none / known MODIN / unknown
+    Val<int> spindle;                    // 3, 4, 5 (M843 counts as 3, M845 as 5)
+    // Line of the G80/M204 that stopped the spindle by ending a G114 (OG84L)
+    // mode; 0 when the spindle state comes from an explicit M code.
+    Val<uint32_t> spindle_stopped_by;
+    Val<double> spindle_speed;           // S
+    Val<bool> speed_commanded;           // an S has been commanded in this program
+    Val<bool> sync_tap;                  // M843 (synchronised tapping mode) until M845
+    Val<bool> coolant;                   // M7/M8/M12 on, M9 off
+    Val<double> feed;                    // F
+    Val<bool> overrides_disabled;        // after G114 until M204 (G80 leaves them off)
+    Val<double> x, y, z;                 // tool-tip position in program coordinates
+    // Variables with known constant values ("VC12", "PX", ...). A name that is
+    // absent has an unknown value.
+    std::map<std::string, double> vars;
+
+    // One-shot commands of a block (NCYL, NOEX, G100). They describe the block
+    // whose `after` state this is and are false in every `before` state (the
+    // driver clears them before the state flows on).
+    bool ncyl = false;
+    bool noex = false;
+    bool g100 = false;
+    void clear_one_shots() { ncyl = noex = g100 = false; }
+
+    // Fields that differ become unknown. The fixed-cycle slot merges field by
+    // field when both sides have the same cycle (same code and macro), so that
+    // "a G81 is modal" stays known when the paths disagree only on its R or Z.
+    void merge(const ModalState& o);
+    friend bool operator==(const ModalState&, const ModalState&) = default;
+
+    Val<double> axis(char a) const {
+        switch (a) {
+            case 'X': return x;
+            case 'Y': return y;
+            case 'Z': return z;
+            default: return {};
+        }
+    }
+    Val<double>* axis_ref(char a) {
+        switch (a) {
+            case 'X': return &x;
+            case 'Y': return &y;
+            case 'Z': return &z;
+            default: return nullptr;
+        }
+    }
+};
+
+std::string describe_state(const ModalState& s);  // one line for `osplint trace`
+
+// The fixed cycle modal in a state when that is known; nullptr when no cycle
+// is modal or when it is not known whether one is.
+inline const ActiveCycle* active_cycle(const ModalState& s) {
+    return s.cycle.known && s.cycle.value ? &*s.cycle.value : nullptr;
+}
+// Known: no fixed cycle is modal.
+inline bool no_cycle(const ModalState& s) { return s.cycle.known && !s.cycle.value; }
+inline const ActiveModin* active_modin(const ModalState& s) {
+    return s.modin.known && s.modin.value ? &*s.modin.value : nullptr;
+}
+// Whether a word is an operand of a coordinate-calculation statement of its
+// block (`BHC X.. Y.. I.. J.. K..`, `RSTRT R12`): a pattern parameter, not an
+// address of the block itself (not a position, not the cycle's R).
+inline bool is_coord_calc_operand(const Block& b, const Word& w) {
+    for (const auto& st : b.statements)
+        if (st.kind == StmtKind::CoordCalc && w.range.begin >= st.range.begin && w.range.begin < st.range.end)
+            return true;
+    return false;
+}
+// The first word with this address that is not a coordinate-calculation operand.
+inline const Word* find_address(const Block& b, std::string_view address) {
+    for (const auto& w : b.words)
+        if (w.address == address && !is_coord_calc_operand(b, w)) return &w;
+    return nullptr;
+}
+
+// The cycle axis of the plane in effect, or 0 when the plane is unknown.
+inline char cycle_axis(const ModalState& s) { return s.plane.known ? plane_axes(s.plane.value).cycle : 0; }
+
+}  // namespace osplint

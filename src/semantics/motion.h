@@ -1,0 +1,179 @@
+// Cycle-axis motion: where a macro call or a fixed-cycle hole takes the tool.
+//
+// For every block that runs a catalog macro (a CALL, a positioning block of an
+// open MODIN, a one-shot G-code macro) or a hole of a fixed cycle (G81 ...,
+// and the G-code macro cycle OG84L/G114), the evaluator walks the manual's
+// action sequence (the catalog's `action` steps, or the fixed-cycle points
+// I -> R -> Z of seed 004) and records, per step, the cycle-axis position the
+// step reaches. The envelope is the range [lowest, highest] of those points,
+// each end naming the step that produced it ("step 3c: PZ-PI-PL = -20-12-5 =
+// -37").
+//
+// Nothing is guessed: an argument or start position the analyzer cannot know
+// leaves its points unknown, and the envelope says which end it cannot bound.
+// Strokes whose direction the manual does not print (OG87N "by PL") and steps
+// whose condition cannot be decided (M53 modal state unknown) are kept apart
+// as "possible" points: they widen the picture, never a finding.
+//
+// Axes follow the plane: the cycle axis is Z in G17, Y in G18, X in G19, and
+// the catalog's "+" (toward the R side, up on a vertical machine) is the +
+// direction of that axis in every plane.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/analyzer.h"
+#include "semantics/config.h"
+#include "semantics/modal.h"
+#include "syntax/model.h"
+#include "engine/rule.h"
+
+namespace osplint {
+
+struct Interval {
+    double lo = 0;
+    double hi = 0;
+};
+
+enum class MotionSource : uint8_t {
+    Macro,       // CALL, MODIN positioning block, one-shot G-code macro
+    FixedCycle,  // a hole of G73..G89, G77, G78, G186 ...
+    CycleMacro,  // a hole of a G-code macro cycle (OG84L registered to G114)
+};
+
+// One cycle-axis point of the motion, from one step of the action sequence.
+struct MotionPoint {
+    std::string step;    // "3c"; fixed cycles: "I", "R", "Z", "return"
+    std::string label;   // "step 3c", "R point", "return (G98)"
+    std::string mark;    // short label for pictures: "R", "Z", "A", "T", "I", "G71", "+lim"; "" = none
+    std::string expr;    // the catalog expression ("PZ-PI-PL"), or what the point is ("I point")
+    std::string worked;  // the arithmetic ("-20-12-5 = -37") or why the value is unknown
+    std::string text;    // the step's description from the catalog
+    std::string source;  // "000:L607"
+    Val<double> value;   // the position reached (definite points)
+    std::optional<Interval> reach;  // possible points: where the tool may end up
+    bool possible = false;  // may or may not be reached (see the header comment)
+    bool inferred = false;  // the catalog marks this target as inferred, not printed
+    bool limit = false;     // the + travel limit of the axis (M52 / PM=52 in G17)
+    bool start = false;     // where the tool already is when the block starts (the I point):
+                            // part of the envelope, but no move of this block
+
+    // "step 3c: PZ-PI-PL = -20-12-5 = -37" (fixed cycles: "R point: R = 3").
+    std::string describe() const;
+};
+
+// An end of an envelope: its value and the point that produced it.
+struct EnvelopeEnd {
+    double value = 0;
+    std::size_t point = 0;  // index into Envelope::points
+};
+
+// A point of the positioning plane the motion certainly visits (a hole centre,
+// a macro's start point), in program coordinates.
+struct PlanePoint {
+    char axis = 0;
+    double value = 0;
+    std::string what;  // "PX" / "X"
+};
+
+// Where the motion may spread in the positioning plane (a slot, a counterbore
+// circle): information for the trace and the picture, not checked.
+struct PlaneSpan {
+    char axis = 0;
+    Interval range;
+    std::string why;
+    bool inferred = false;  // rests on a reading (e.g. the start point is one end of the slot)
+};
+
+struct Envelope {
+    MotionSource source = MotionSource::Macro;
+    std::string name;              // "OZAGR", "G81", "OG84L"
+    std::string code;              // "G114", "G81"; empty for CALL/MODIN
+    CallKind call_kind = CallKind::None;
+    uint32_t line = 0;             // the block
+    uint32_t origin_line = 0;      // the MODIN line / the block that started the cycle (0 for a CALL)
+    std::optional<Plane> plane;    // unknown plane: no axis, nothing bounded
+    char axis = 0;                 // the cycle axis ('Z' in G17)
+    bool incremental = false;      // G91 in effect
+    std::vector<MotionPoint> points;  // in the order of the action sequence
+    std::optional<EnvelopeEnd> lowest, highest;  // extremes of the known definite points
+    bool bounded_low = true;       // no definite point is unknown (lowest is the true lowest)
+    bool bounded_high = true;
+    std::optional<std::size_t> limit_point;  // the motion goes to the + travel limit
+    std::optional<EnvelopeEnd> may_low, may_high;  // possible points beyond lowest / highest
+    Val<double> start;             // the cycle-axis position before the block
+    Val<double> end;               // where the tool is left on the cycle axis
+    std::vector<PlanePoint> plane_points;
+    std::vector<PlaneSpan> plane_spans;
+    std::vector<std::string> notes;  // readings applied, steps skipped
+
+    bool bounded() const { return plane && bounded_low && bounded_high; }
+    // Definite points whose value is unknown (why the envelope is not bounded).
+    std::vector<const MotionPoint*> unknown_points() const;
+    // "OZAGR (CALL)", "G81 hole", "G114 hole (OG84L)"
+    std::string title() const;
+};
+
+// Whether the block drills a hole of the fixed cycle active after it (not
+// under NCYL or G100, not the G-code macro declaration block).
+bool is_cycle_hole(const Block& block, const ModalState& before, const ModalState& after, const MacroCall* call);
+
+// The envelope of the motion the block runs on the cycle axis, or nullopt when
+// it runs no macro and no fixed-cycle hole. The holes of a G-code macro cycle
+// read the arguments of earlier blocks (G114 ... L) from the cycle's modal words.
+std::optional<Envelope> cycle_envelope(const Block& block, const ModalState& before, const ModalState& after,
+                                       const MacroCall* call, const Config& config);
+std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& config);
+
+// A point outside `[machine.travel]`.
+struct TravelViolation {
+    char axis = 0;
+    double value = 0;    // the position reached
+    double limit = 0;    // the limit it passes
+    bool below = false;  // below the minimum (else above the maximum)
+    std::string what;    // "step 3c: PZ-PI-PL = -298-5-5 = -308", "positioning to PX = 420"
+    bool inferred = false;
+    std::string name;    // plane points: the argument or address that set the position ("PX", "X")
+    int point = -1;      // cycle axis: index into Envelope::points
+};
+
+// The definite points of the envelope (cycle axis and plane points) outside
+// the configured travel: at most one per axis and direction, the farthest.
+// The start point (I) and a trip to the + limit are not moves past a limit.
+std::vector<TravelViolation> travel_violations(const Envelope& env, const Config& config);
+
+// A plain positioning block (no macro, no hole): the axes it moves to outside
+// the configured travel.
+std::vector<TravelViolation> positioning_violations(const Block& block, const ModalState& before,
+                                                    const ModalState& after, const MacroCall* call,
+                                                    const Config& config);
+
+// Every envelope of a checked file, in block order (needs the per-block states
+// of `analyze` with `keep_states`).
+std::vector<Envelope> file_envelopes(const ProgramFile& file, const AnalysisResult& result, const Config& config);
+
+// The side-view picture of `osplint trace --svg`: one column per cycle (holes
+// of the same cycle with the same envelope share a column), the envelope as a
+// bar, R/Z/A/T/I marks, travel limits, violations in red, a legend.
+struct SvgPanelScale {
+    char axis = 0;
+    double v_top = 0;          // axis value at the top of the plot area
+    double y_top = 0;          // pixel row of the top of the plot area
+    double px_per_unit = 1;    // pixels per axis unit (down = lower value)
+    double y(double v) const { return y_top + (v_top - v) * px_per_unit; }
+};
+struct SvgPicture {
+    std::string svg;
+    std::vector<SvgPanelScale> panels;
+    std::size_t columns = 0;
+};
+SvgPicture render_motion_svg(const std::vector<Envelope>& envelopes, const Config& config, std::string_view title);
+
+// A number as the trace and the messages print it: at most 4 decimals, no trailing zeros.
+std::string motion_number(double v);
+
+}  // namespace osplint

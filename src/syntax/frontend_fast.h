@@ -1,0 +1,107 @@
+// The fast front end: a hand-written lexer and block parser for the common
+// block shapes of part programs, used by the batch path (analyzer/stream.h).
+//
+// The tree-sitter grammar (grammar/) stays the single definition of the syntax.
+// The hand-written parser recognises a subset of it — the lines CAM
+// post-processors write by the million — and produces exactly the Block the
+// tree-sitter front end produces for them (every field, every byte range; see
+// tests/unit/test_fast_frontend.cpp). Any line it does not fully recognise
+// (keywords other than CALL/MODIN/RTS/MODOUT/NCYL/NOEX, functions, strings,
+// comparisons, syntax errors, non-ASCII text outside comments, ...) is parsed by
+// the tree-sitter front end on its own, with its offsets shifted to the line's
+// place in the file. The grammar is line oriented, so a line without syntax
+// errors parses the same alone and in its file; a line with one is parsed on
+// its own by the tree-sitter front end too (frontend.h), so that its error
+// recovery does not depend on the lines around it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "syntax/model.h"
+#include "syntax/source.h"
+
+namespace osplint {
+
+// One line of a file: its text without the terminator, the terminator itself
+// ("\n", "\r\n", "\r" or "" for an unterminated last line), its 1-based number
+// and the byte offset where it starts.
+struct LineRef {
+    std::string_view text;
+    std::string_view terminator;
+    uint32_t line = 1;
+    uint32_t start = 0;
+};
+
+// Parses lines into Blocks. Keeps its scratch storage (and the storage of the
+// Block it fills) between calls, so that parsing a stream of ordinary blocks
+// does not allocate.
+class FastLineParser {
+public:
+    FastLineParser();
+    ~FastLineParser();
+    FastLineParser(const FastLineParser&) = delete;
+    FastLineParser& operator=(const FastLineParser&) = delete;
+
+    // Fills `out` with the block of `line`. Returns true when the hand-written
+    // parser handled the line, false when the tree-sitter front end did.
+    bool parse(const LineRef& line, Block& out);
+
+    // Only the hand-written parser: false (and `out` unspecified) when the line
+    // is outside the subset it recognises.
+    bool parse_fast_only(const LineRef& line, Block& out);
+
+    // Whether the last line parsed is a plain move (analyzer.h:
+    // is_plain_move_block) of the simplest shape: glued literal words only. A
+    // false answer proves nothing: ask is_plain_move_block then.
+    bool last_plain() const { return last_plain_; }
+    // Lines handled by each parser so far.
+    uint64_t fast_lines() const { return fast_lines_; }
+    uint64_t fallback_lines() const { return fallback_lines_; }
+
+private:
+    struct Impl;
+    Impl* impl_;
+    uint64_t fast_lines_ = 0;
+    bool last_plain_ = false;
+    uint64_t fallback_lines_ = 0;
+};
+
+// The tree-sitter front end applied to one line alone, with every offset of
+// the result shifted to the line's place in its file.
+void parse_line_tree_sitter(const LineRef& line, Block& out);
+
+// Adds `delta` to every byte offset of `b` (the ranges that are set).
+void shift_block(Block& b, int64_t delta);
+
+// Calls `f(const LineRef&)` for every line of `text` that is a block: every
+// terminated line, and the last line when it is not empty (the same lines
+// parse_program_file makes blocks of). `base` is added to every offset and
+// `first_line` is the number of the first line.
+template <class F>
+void for_each_line(std::string_view text, F&& f, uint32_t base = 0, uint32_t first_line = 1) {
+    size_t i = 0;
+    uint32_t line = first_line;
+    const size_t n = text.size();
+    while (i < n) {
+        size_t e = i;
+        while (e < n && text[e] != '\n' && text[e] != '\r') ++e;
+        size_t t = e;
+        if (t < n) t += (text[t] == '\r' && t + 1 < n && text[t + 1] == '\n') ? 2 : 1;
+        LineRef l{text.substr(i, e - i), text.substr(e, t - e), line, static_cast<uint32_t>(base + i)};
+        f(static_cast<const LineRef&>(l));
+        ++line;
+        i = t;
+    }
+}
+
+// The whole text parsed line by line with FastLineParser: the same ProgramFile
+// parse_program_file makes (used by the differential tests and the fuzzer).
+ProgramFile parse_program_file_fast(std::string path, std::string text, uint64_t* fallback_lines = nullptr);
+
+// A readable dump of every field of a block (for test and fuzzer reports).
+std::string dump_block(const Block& b);
+
+}  // namespace osplint
