@@ -53,7 +53,7 @@ std::string make_program(std::size_t size) {
     return s;
 }
 
-json wait_for(MemorySink& out, int64_t version) {
+json wait_for(MemoryOutput& out, int64_t version) {
     for (;;) {
         std::string body = out.next(60000);
         if (body.empty()) {
@@ -95,8 +95,8 @@ int main(int argc, char** argv) {
         text = make_program(size);
     }
 
-    PipeSource in;
-    MemorySink out;
+    PipeInput in;
+    MemoryOutput out;
     ServerOptions options;  // the defaults `osplint lsp` uses (debounce included)
     if (std::getenv("OSPLINT_LSP_TIMING")) {
         options.log_timing = true;

@@ -19,7 +19,9 @@
 #include "support/errors.h"
 #include "output/formats.h"
 #include "output/report.h"
-#include "engine/stream.h"
+#include "api/check.h"
+#include "api/config.h"
+#include "engine/workspace.h"
 #include "output/sarif.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
@@ -99,8 +101,10 @@ std::vector<FileResult> check_files(const std::vector<std::string>& files,
             try {
                 // The batch path streams (analyzer/stream.h): same findings as
                 // check_text, in bounded memory however large the program.
-                if (files[i] == "-") r = check_fd_fast(stdin_fd, stdin_name, *configs[i], options);
-                else r = check_file_fast(files[i], *configs[i], options);
+                ResultCollector collect(true);
+                if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], options, collect);
+                else check_path(files[i], *configs[i], options, collect);
+                r = collect.take();
             } catch (const std::exception& e) {
                 r = FileResult{};
                 r.path = files[i] == "-" ? stdin_name : files[i];
@@ -179,25 +183,17 @@ int run_check(const CheckOptions& o) {
     int stdin_fd = -1;  // stdin copied to an unlinked temporary file: read twice, never held
     bool have_stdin = false;
     ProgramNames names;
+    SubprogramDirectories directories;
     std::map<std::string, bool> scanned_dirs;
     // A file checked alone needs no pass of its own: the names it defines
-    // matter to the other checked files, and the check finds its own names
-    // as it reads (for a 100 MB program, that pass is a tenth of the time).
+    // matter to the other checked files, and the check finds its own names.
     const bool alone = files.size() == 1;
     std::vector<std::string> to_scan;
     for (const auto& f : files) {
         fs::path dir = dir_of(f);
         if (!scanned_dirs[dir.string()]) {
             scanned_dirs[dir.string()] = true;
-            std::error_code ec;
-            for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-                std::string ext = it->path().extension().string();
-                for (auto& c : ext) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-                if (ext != ".SSB" && ext != ".SUB" && ext != ".LIB" && ext != ".MSB") continue;
-                std::error_code e2;
-                if (!it->is_regular_file(e2) || it->file_size(e2) > (64u << 20)) continue;
-                collect_program_names_file(it->path().string(), names);
-            }
+            directories.add_names(dir, names);
         }
         if (f == "-") {
             if (!have_stdin) {
@@ -206,7 +202,10 @@ int run_check(const CheckOptions& o) {
                 if (stdin_fd < 0) errors.push_back(stdin_name + ": " + error);
                 have_stdin = true;
             }
-            if (stdin_fd >= 0 && !alone) collect_program_names_fd(stdin_fd, names);
+            if (stdin_fd >= 0 && !alone) {
+                FdSource src(stdin_fd, std::nullopt);
+                add_program_names(src, names);
+            }
             continue;
         }
         std::error_code ec;
@@ -219,7 +218,7 @@ int run_check(const CheckOptions& o) {
         std::vector<ProgramNames> found(n);
         std::atomic<size_t> next{0};
         auto scan = [&](size_t k) {
-            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) collect_program_names_file(to_scan[i], found[k]);
+            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) add_program_names(fs::path(to_scan[i]), found[k]);
         };
         if (n <= 1) {
             if (n == 1) scan(0);

@@ -14,8 +14,8 @@ int run_lsp() {
     // A client that goes away must not kill the server with SIGPIPE mid-write:
     // the write fails and the message loop ends at the end of the input.
     std::signal(SIGPIPE, SIG_IGN);
-    lsp::FdSource in(STDIN_FILENO);
-    lsp::FdSink out(STDOUT_FILENO);
+    lsp::FdInput in(STDIN_FILENO);
+    lsp::FdOutput out(STDOUT_FILENO);
     lsp::ServerOptions options;
     options.log = [](const std::string& message) { std::cerr << "osplint lsp: " << message << std::endl; };
     // OSPLINT_LSP_TIMING=1: log how long each analysis took.

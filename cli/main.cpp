@@ -13,8 +13,10 @@
 #include "support/embedded.h"
 #include "support/errors.h"
 #include "output/report.h"
+#include "api/config.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
+#include "support/text.h"
 #include "rules/registry.h"
 
 namespace fs = std::filesystem;

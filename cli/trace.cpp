@@ -6,12 +6,15 @@
 #include <iostream>
 #include <sstream>
 
+#include "support/text.h"
+
 #include <fmt/format.h>
 
-#include "syntax/frontend.h"
-#include "semantics/motion.h"
+#include "api/check.h"
+#include "api/config.h"
 #include "cli/commands.h"
-#include "osplint/osplint.h"
+#include "output/svg.h"
+#include "semantics/motion.h"
 
 namespace fs = std::filesystem;
 
@@ -82,50 +85,69 @@ void print_envelope(std::ostream& out, const Envelope& env, const Config& config
             << (v.below ? "minimum " : "maximum ") << motion_number(v.limit) << ": " << v.what << "\n";
 }
 
+// Prints each block as the engine walks it (the same walk as `osplint check`,
+// without the rules): nothing is held but the envelopes of the picture.
+class TracePrinter final : public BlockObserver {
+public:
+    TracePrinter(std::ostream& out, const Config& config, const TraceOptions& o, bool keep_envelopes)
+        : out_(out), config_(config), o_(o), keep_(keep_envelopes) {}
+
+    bool block(const BlockView& view, const LineRef& line) override {
+        const Block& b = view.block;
+        std::optional<Envelope> env;
+        if (view.reachable) env = cycle_envelope(view, config_);
+        if (b.is_empty() || (o_.envelopes_only && !env)) return true;
+        std::string text(line.text);
+        if (text.size() > 60) text = abbreviate(text, 60);
+        out_ << fmt::format("{:>6}  {:<60}  {}\n", b.line, text,
+                            view.reachable ? describe_state(view.after) : std::string("(unreachable)"));
+        if (const MacroCall* call = view.call) {
+            std::string extra = call->kind == CallKind::ModinPositioning
+                                    ? " (MODIN of line " + std::to_string(call->modin_line) + ")"
+                                    : "";
+            out_ << fmt::format("{:>6}  -> {} {}{}\n", "", call_kind_name(call->kind), call->name, extra);
+        }
+        if (env) {
+            print_envelope(out_, *env, config_);
+            if (keep_) envelopes.push_back(std::move(*env));
+        }
+        return true;
+    }
+    std::vector<Envelope> envelopes;
+
+private:
+    std::ostream& out_;
+    const Config& config_;
+    const TraceOptions& o_;
+    bool keep_;
+};
+
+// The trace reports no findings; the directives' own findings are dropped too.
+class NoFindings final : public DiagnosticSink {
+public:
+    void diagnostic(Diagnostic&&) override {}
+};
+
 }  // namespace
 
 int run_trace(const TraceOptions& o) {
-    std::ifstream in(o.path, std::ios::binary);
-    if (!in || fs::is_directory(o.path)) {
-        std::cerr << "osplint: " << o.path << ": cannot read\n";
-        return 2;
-    }
-    std::ostringstream ss;
-    ss << in.rdbuf();
     Config config;
     if (!o.config.empty()) config = load_config(o.config);
     else if (auto f = find_config(fs::path(o.path).parent_path().empty() ? fs::path(".") : fs::path(o.path).parent_path()))
         config = load_config(*f);
-    ProgramFile file = parse_program_file(o.path, ss.str());
+    TracePrinter printer(std::cout, config, o, !o.svg.empty());
     AnalysisOptions options;
-    options.keep_states = true;
-    options.only_rules = {"OSP001"};  // the states are what is wanted, not the findings
-    AnalysisResult r = analyze(file, config, options);
-
-    std::vector<Envelope> all;
-    for (size_t i = 0; i < file.blocks.size(); ++i) {
-        const Block& b = file.blocks[i];
-        const BlockInfo& info = r.blocks[i];
-        const MacroCall* call = info.call ? &*info.call : nullptr;
-        std::optional<Envelope> env;
-        if (info.reachable) env = cycle_envelope(b, info.before, info.after, call, config);
-        if (b.is_empty() || (o.envelopes_only && !env)) continue;
-        std::string text(file.source.line_text(b.line));
-        if (text.size() > 60) text = text.substr(0, 57) + "...";
-        std::cout << fmt::format("{:>6}  {:<60}  {}\n", b.line, text,
-                                 info.reachable ? describe_state(info.after) : std::string("(unreachable)"));
-        if (call) {
-            std::string extra =
-                call->kind == CallKind::ModinPositioning ? " (MODIN of line " + std::to_string(call->modin_line) + ")" : "";
-            std::cout << fmt::format("{:>6}  -> {} {}{}\n", "", call_kind_name(call->kind), call->name, extra);
-        }
-        if (env) {
-            print_envelope(std::cout, *env, config);
-            all.push_back(std::move(*env));
-        }
+    options.observer = &printer;
+    options.run_rules = false;  // the states are what is wanted, not the findings
+    NoFindings sink;
+    const std::string error = check_path(o.path, config, options, sink);
+    std::cout.flush();
+    if (!error.empty()) {
+        std::cerr << "osplint: " << o.path << ": " << error << "\n";
+        return 2;
     }
     if (!o.svg.empty()) {
-        SvgPicture pic = render_motion_svg(all, config, fs::path(o.path).filename().string());
+        SvgPicture pic = render_motion_svg(printer.envelopes, config, fs::path(o.path).filename().string());
         std::ofstream out(o.svg, std::ios::binary);
         if (!out) {
             std::cerr << "osplint: " << o.svg << ": cannot write\n";

@@ -1,11 +1,13 @@
-// libFuzzer target: the input bytes as a part program, through both front ends
-// and both checks; any difference aborts.
+// libFuzzer target: the input bytes as a part program, through both front
+// ends, the outline and the engine; any difference from the reference aborts.
 //
 //   * parse_program_file (tree-sitter) and parse_program_file_fast give equal
 //     Blocks and programs (lines with syntax errors included: both front ends
-//     parse such a line on its own).
-//   * check_text and the streaming check (read in chunks of a size taken from
-//     the input) give the same result, every field.
+//     parse such a line on its own);
+//   * the outline read fast equals the outline of the full parse;
+//   * the engine, reading the input in chunks of a size taken from the input
+//     and holding loops in memory or reading them again, gives the reference
+//     analysis's result (tests/unit/reference.h), every field.
 //
 // Build and run with fuzz/run.sh.
 #include <cstdint>
@@ -13,12 +15,14 @@
 #include <cstdlib>
 #include <string>
 
+#include "api/check.h"
+#include "reference.h"
 #include "syntax/frontend.h"
 #include "syntax/frontend_fast.h"
-#include "osplint/osplint.h"
-#include "engine/stream.h"
+#include "syntax/outline.h"
 
 using namespace osplint;
+using namespace osplint::testing;
 
 namespace {
 
@@ -51,17 +55,26 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     if (!(ts.programs == fast.programs)) divergence("programs differ");
 
+    OutlineOptions oo;
+    oo.chunk_size = size > 2 ? 1 + data[size - 2] % 97 : 1;
+    MemorySource src(text);
+    const std::string outline = dump_outline(outline_file(src, oo));
+    const std::string expected_outline = dump_outline(reference_outline(ts));
+    if (outline != expected_outline)
+        divergence("outline\n-- reference:\n" + expected_outline + "-- engine:\n" + outline);
+
     const std::string path = size > 0 && (data[0] & 1) ? "fuzz.ssb" : "fuzz.min";
-    const std::string expected = dump_result(check_text(path, text, config()));
-    StreamOptions so;
-    so.chunk_size = size > 1 ? 1 + data[size - 1] % 61 : 1;
-    const std::string small = dump_result(check_text_fast(path, text, config(), {}, so));
+    const std::string expected = dump_result(reference_check(path, text, config()));
+    AnalysisOptions options;
+    options.chunk_size = size > 1 ? 1 + data[size - 1] % 61 : 1;
+    options.held_loop_blocks = size > 0 && (data[0] & 2) ? 0 : 8192;
+    const std::string small = dump_result(check_text(path, text, config(), options));
     if (small != expected)
-        divergence("check (chunk " + std::to_string(so.chunk_size) + ")\n-- check_text:\n" + expected +
-                   "-- streaming:\n" + small);
-    so.chunk_size = size_t(1) << 20;
-    const std::string large = dump_result(check_text_fast(path, text, config(), {}, so));
-    if (large != expected)
-        divergence("check (chunk 1 MiB)\n-- check_text:\n" + expected + "-- streaming:\n" + large);
+        divergence("check (chunk " + std::to_string(options.chunk_size) + ", held " +
+                   std::to_string(options.held_loop_blocks) + ")\n-- reference:\n" + expected + "-- engine:\n" + small);
+    options.chunk_size = size_t(1) << 20;
+    options.held_loop_blocks = 8192;
+    const std::string large = dump_result(check_text(path, text, config(), options));
+    if (large != expected) divergence("check (chunk 1 MiB)\n-- reference:\n" + expected + "-- engine:\n" + large);
     return 0;
 }

@@ -17,23 +17,15 @@ jobs=${OSPLINT_FUZZ_BUILD_JOBS:-2}
 command -v clang++ >/dev/null || { echo "fuzz/run.sh: clang++ is required" >&2; exit 3; }
 
 mkdir -p "$dir"
-# The library, instrumented for coverage and built with the sanitizers.
+# The library, instrumented for coverage and built with the sanitizers, and
+# the target (CMake option OSPLINT_FUZZ).
 if [[ ! -f "$dir/core/build.ninja" ]]; then
   cmake -S "$root" -B "$dir/core" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DOSPLINT_SANITIZE=ON \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DOSPLINT_SANITIZE=ON -DOSPLINT_FUZZ=ON \
     -DCMAKE_C_FLAGS=-fsanitize=fuzzer-no-link -DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link >/dev/null
 fi
-ninja -C "$dir/core" -j "$jobs" osplint_core >/dev/null
-
-target="$dir/diff_fuzz"
-if [[ ! -x "$target" || "$root/fuzz/diff_fuzz.cpp" -nt "$target" || "$dir/core/libosplint_core.a" -nt "$target" ]]; then
-  # shellcheck disable=SC2046
-  clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-    -I"$root/include" -I"$root/analyzer" -I"$root" -I"$dir/core/generated" \
-    "$root/fuzz/diff_fuzz.cpp" -o "$target" \
-    "$dir/core/libosplint_core.a" "$dir/core/libosplint_grammar.a" \
-    $(pkg-config --libs tree-sitter tomlplusplus) -lfmt -lpthread
-fi
+ninja -C "$dir/core" -j "$jobs" diff_fuzz >/dev/null
+target="$dir/core/diff_fuzz"
 
 # Seeds: every program of the repository (small ones), as they are.
 seeds="$dir/seeds"

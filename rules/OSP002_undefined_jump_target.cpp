@@ -1,5 +1,10 @@
 // OSP002 undefined-jump-target: GOTO / IF / a LAP-style N reference names a
 // sequence name that the program does not define.
+//
+// A name may be defined after the jump, so the references are collected as
+// the program is walked and checked once the walk has seen all of it.
+#include <vector>
+
 #include "engine/rule.h"
 
 namespace osplint {
@@ -12,27 +17,42 @@ class UndefinedJumpTarget final : public Rule {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }
-    void check_block(RuleContext& ctx, const BlockView& v) override {
+    void begin_program(RuleContext&, const ProgramView&) override { refs_.clear(); }
+    void check_block(RuleContext&, const BlockView& v) override {
         for (const auto& st : v.block.statements) {
             if (st.kind != StmtKind::Goto && st.kind != StmtKind::If) continue;
-            if (st.name.empty() || ctx.has_label(st.name)) continue;
-            auto& d = ctx.report(kMeta, st.name_range,
-                                 "jump target " + st.name + " is not a sequence name of this program: the control "
-                                 "stops with an alarm when it executes this jump");
-            d.notes.push_back({"sequence names are local to each program (O name); define " + st.name +
-                                   " in this program or correct the name",
-                               std::nullopt});
+            if (!st.name.empty()) refs_.push_back({st.name, st.name_range, true});
         }
         // LAP-style references inside a block: G85 N0207 / G87 NAT3.
-        for (const auto& w : v.block.words) {
-            if (w.address != "N" || w.value_text.empty()) continue;
-            std::string label = "N" + w.value_text;
-            if (ctx.has_label(label)) continue;
-            ctx.report(kMeta, w.range, "sequence name " + label +
-                                           " referenced here is not defined in this program: the cycle cannot find "
-                                           "its contour and the control stops with an alarm");
-        }
+        for (const auto& w : v.block.words)
+            if (w.address == "N" && !w.value_text.empty()) refs_.push_back({"N" + w.value_text, w.range, false});
     }
+    void end_program(RuleContext& ctx, const ProgramView&) override {
+        for (const Ref& r : refs_) {
+            if (ctx.has_label(r.name)) continue;
+            if (r.jump) {
+                auto& d = ctx.report(kMeta, r.range,
+                                     "jump target " + r.name + " is not a sequence name of this program: the control "
+                                     "stops with an alarm when it executes this jump");
+                d.notes.push_back({"sequence names are local to each program (O name); define " + r.name +
+                                       " in this program or correct the name",
+                                   std::nullopt});
+            } else {
+                ctx.report(kMeta, r.range, "sequence name " + r.name +
+                                               " referenced here is not defined in this program: the cycle cannot "
+                                               "find its contour and the control stops with an alarm");
+            }
+        }
+        refs_.clear();
+    }
+
+private:
+    struct Ref {
+        std::string name;
+        ByteRange range;
+        bool jump;
+    };
+    std::vector<Ref> refs_;  // one per jump or N reference of the program: its structure, not its size
 };
 
 }  // namespace

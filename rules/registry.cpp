@@ -1,4 +1,4 @@
-#include "registry.h"
+#include "rules/registry.h"
 
 namespace osplint {
 
@@ -6,31 +6,31 @@ namespace osplint {
 #include "rules_list.inc"
 #undef OSPLINT_RULE
 
-std::vector<std::unique_ptr<Rule>> make_rules() {
-    std::vector<std::unique_ptr<Rule>> out;
+namespace {
+
+class BuiltinRules final : public RuleRegistry {
+public:
+    BuiltinRules() {
+        for (const auto& r : make_all()) metas_.push_back(r->meta());
+    }
+    const std::vector<RuleMeta>& all() const override { return metas_; }
+    std::vector<std::unique_ptr<Rule>> make_all() const override {
+        std::vector<std::unique_ptr<Rule>> out;
 #define OSPLINT_RULE(id) out.push_back(make_rule_##id());
 #include "rules_list.inc"
 #undef OSPLINT_RULE
-    return out;
-}
+        return out;
+    }
 
-const std::vector<RuleMeta>& all_rules() {
-    static const std::vector<RuleMeta> metas = [] {
-        std::vector<RuleMeta> v;
-        for (const auto& r : make_rules()) v.push_back(r->meta());
-        return v;
-    }();
-    return metas;
-}
+private:
+    std::vector<RuleMeta> metas_;
+};
 
-const RuleMeta* find_rule(std::string_view id) {
-    for (const auto& m : all_rules())
-        if (m.id == id) return &m;
-    return nullptr;
-}
+}  // namespace
 
-bool rule_matches(std::string_view id, std::string_view pattern) {
-    return !pattern.empty() && id.substr(0, pattern.size()) == pattern;
+const RuleRegistry& builtin_rules() {
+    static const BuiltinRules rules;
+    return rules;
 }
 
 }  // namespace osplint

@@ -12,12 +12,11 @@
 
 namespace osplint {
 
-// Fresh instances of every rule (rules may keep state while a file is checked).
-std::vector<std::unique_ptr<Rule>> make_rules();
-// Metadata of every rule, in ID order.
-const std::vector<RuleMeta>& all_rules();
-const RuleMeta* find_rule(std::string_view id);
-// Rule IDs selected by a list of IDs or prefixes ("OSP2", "OSP104").
-bool rule_matches(std::string_view id, std::string_view pattern);
+// The built-in rules.
+const RuleRegistry& builtin_rules();
+
+// Shorthands on the built-in set.
+inline const std::vector<RuleMeta>& all_rules() { return builtin_rules().all(); }
+inline const RuleMeta* find_rule(std::string_view id) { return builtin_rules().find(id); }
 
 }  // namespace osplint

@@ -1,10 +1,11 @@
 // What a rule sees and how it reports.
 //
-// The analyzer walks each program once: it computes the modal state at every
-// block (analyzer/modal.h), resolves which macro each block invokes (a CALL, a
-// MODIN line, a block that triggers an open MODIN, a registered G-code macro),
-// evaluates the arguments, and then hands every block to every enabled rule
-// in program order. Rules never walk the program themselves.
+// The engine walks each program once for the rules: it computes the modal
+// state at every block (semantics/transfer.h, to a fixpoint where jumps and
+// loops join paths), resolves which macro each block invokes (a CALL, a MODIN
+// line, a block that triggers an open MODIN, a registered G-code macro),
+// evaluates the arguments, and hands every block to every enabled rule in
+// program order. Rules never walk the program themselves.
 #pragma once
 
 #include <memory>
@@ -13,15 +14,14 @@
 #include <string_view>
 #include <vector>
 
-#include "support/diagnostic.h"
+#include "osplint/diagnostic.h"
+#include "semantics/calls.h"
 #include "semantics/modal.h"
 #include "syntax/model.h"
-#include "syntax/source.h"
 
 namespace osplint {
 
 class Catalog;
-struct MacroSpec;
 struct Config;
 
 struct RuleMeta {
@@ -32,55 +32,12 @@ struct RuleMeta {
     bool enabled_by_default = true;
 };
 
-enum class CallKind {
-    None,
-    Call,              // CALL Oname ... on this block
-    Modin,             // MODIN Oname ... on this block (declares the modal call)
-    ModinPositioning,  // a positioning block while a MODIN is open: the macro runs here
-    GCode,             // a registered G-code macro (G114 ...) on this block
-    MCode,             // a registered M-code macro (M204 ...) on this block
-};
-std::string_view call_kind_name(CallKind k);  // "CALL", "MODIN", ...
-
-struct MacroArg {
-    std::string name;             // argument name as the macro sees it ("PR"; G-code "R" -> "PR")
-    const Word* word = nullptr;   // the word on the block (nullptr for MODIN-carried args)
-    Val<double> value;            // evaluated in the state before the block
-};
-
-struct MacroCall {
-    CallKind kind = CallKind::None;
-    std::string name;                 // "OZAGR" (the macro, after resolving a G/M code)
-    ByteRange name_range;             // the name after CALL/MODIN, or the G/M word
-    const MacroSpec* spec = nullptr;  // nullptr: not in the catalog
-    bool defined_in_files = false;    // a program of that name exists in the checked files
-    std::vector<MacroArg> args;       // in the order written
-    const Word* repeat = nullptr;     // Q repeat count on CALL/MODIN (not the PQ argument)
-    std::vector<const Word*> m_codes; // M words written on the call block
-    uint32_t modin_line = 0;          // for ModinPositioning: the MODIN block's line
-
-    const MacroArg* arg(std::string_view n) const {
-        for (const auto& a : args)
-            if (a.name == n) return &a;
-        return nullptr;
-    }
-};
-
-struct BlockView {
-    const Block& block;
-    const ModalState& before;  // state in effect when the block starts
-    const ModalState& after;   // state after the block
-    const MacroCall* call;     // nullptr when the block invokes no subprogram or macro
-    bool reachable = true;     // false for blocks no path from the program start reaches
-};
-
 struct ProgramView {
     const Program& program;
-    const std::vector<Block>* blocks = nullptr;  // the file's blocks (null when streaming)
     // A subprogram: it has an RTS, lives in a .SSB/.SUB/.LIB/.MSB file, or is not
     // the first program of a main file. Its state at entry is unknown.
     bool is_subprogram = false;
-    const ModalState* final_state = nullptr;     // merged state where the program ends
+    const ModalState* final_state = nullptr;  // merged state where the program ends (end_program only)
 };
 
 class RuleContext {
@@ -90,10 +47,12 @@ public:
     virtual const Catalog& catalog() const = 0;
     // The text of a range of the block being checked, its line terminator
     // included (a range that runs past the end of the file is cut there). The
-    // streaming check holds only the lines in hand, never the whole file.
+    // engine holds only the lines in hand, never the whole file.
     virtual std::string_view text(ByteRange r) const = 0;
     virtual std::string_view path() const = 0;
-    // Sequence names defined in the current program.
+    // Whether the current program defines the sequence name `name`. Exact in
+    // end_program for the names its jumps and N words reference (the engine
+    // learns a program's sequence names as it walks it, and keeps only those).
     virtual bool has_label(std::string_view name) const = 0;
     // Whether a program of that name is defined in the checked files.
     virtual bool has_program(std::string_view name) const = 0;
@@ -103,6 +62,7 @@ public:
     // Line and columns of a range anywhere in the file.
     virtual SourceRange resolve(ByteRange r) const = 0;
     // Reports a finding of `rule` at `range`; severity comes from configuration.
+    // The reference stays valid until the rule returns.
     virtual Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) = 0;
 };
 
@@ -113,10 +73,10 @@ public:
     virtual void begin_program(RuleContext&, const ProgramView&) {}
     virtual void check_block(RuleContext&, const BlockView&) {}
     // Whether check_block may do anything (report, or remember something) on a
-    // plain move (analyzer.h: is_plain_move_block in a plain_move_state) under
-    // this configuration. Rules that return false are not called for such
-    // blocks by the streaming check; the differential tests hold it to the
-    // same findings as the full analysis.
+    // plain move (semantics/transfer.h: is_plain_move_block in a
+    // plain_move_state) under this configuration. Rules that return false are
+    // not called for such blocks; the differential tests hold the engine to
+    // the same findings as a walk that shows every rule every block.
     virtual bool sees_plain_moves(const Config&) const { return true; }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
@@ -131,5 +91,31 @@ protected:
 private:
     bool wants_plain_moves_ = true;
 };
+
+// The rules an engine runs: their metadata and fresh instances. The rules
+// layer provides the built-in set (rules/registry.h).
+class RuleRegistry {
+public:
+    virtual ~RuleRegistry() = default;
+    // Every rule, in ID order.
+    virtual const std::vector<RuleMeta>& all() const = 0;
+    // Fresh instances of every rule, in ID order (rules keep state while a file is checked).
+    virtual std::vector<std::unique_ptr<Rule>> make_all() const = 0;
+    const RuleMeta* find(std::string_view id) const {
+        for (const auto& m : all())
+            if (m.id == id) return &m;
+        return nullptr;
+    }
+};
+
+// The rules that run under a configuration: every enabled rule, or exactly
+// `only` when it is not empty (fixtures and `trace`). One definition for every
+// entry point.
+bool rule_runs(const RuleMeta& meta, const Config& config, const std::vector<std::string>& only);
+std::vector<std::unique_ptr<Rule>> select_rules(const RuleRegistry& registry, const Config& config,
+                                                const std::vector<std::string>& only);
+
+// Whether an ID or prefix ("OSP2", "OSP104") selects the rule `id`.
+bool rule_matches(std::string_view id, std::string_view pattern);
 
 }  // namespace osplint

@@ -9,19 +9,15 @@
 #include <stdexcept>
 
 #include "catalog/catalog.h"
-#include "support/embedded.h"
 #include "rules/registry.h"
-#include "engine/suppress.h"
+#include "support/embedded.h"
+#include "support/text.h"
+#include "syntax/directive.h"
+#include "syntax/frontend_fast.h"
 
 namespace osplint::lsp {
 
 namespace {
-
-std::string upper(std::string_view s) {
-    std::string out(s);
-    for (auto& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return out;
-}
 
 bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
 
@@ -298,17 +294,16 @@ json hover_result(std::string text, const SourceText& src, ByteRange r, Encoding
     return json{{"contents", markdown(std::move(text))}, {"range", to_lsp_range(src, r, enc)}};
 }
 
-std::string card_or_note(const Config& config, const ProgramFile& file, const std::string& name) {
+std::string card_or_note(const Config& config, const DocumentModel& doc, const std::string& name) {
     if (const MacroSpec* spec = config.catalog.find(name)) return config.catalog.render_card(*spec, true);
-    for (const auto& p : file.programs)
+    for (const auto& p : doc.outline.programs)
         if (p.name == upper(name))
-            return fmt::format("**{}**: subprogram defined in this file (line {}).", p.name,
-                               file.source.line_of(p.name_range.begin));
+            return fmt::format("**{}**: subprogram defined in this file (line {}).", p.name, p.line);
     return fmt::format("**{}** is not in the macro catalog and not defined in this file.", upper(name));
 }
 
-std::optional<json> hover_directive(const ProgramFile& file, const Block& b, uint32_t off, Encoding enc) {
-    const std::string& text = file.source.text();
+std::optional<json> hover_directive(const SourceText& source, const Block& b, uint32_t off, Encoding enc) {
+    const std::string& text = source.text();
     for (const auto& c : b.comments) {
         if (!hits(c.range, off) || c.range.end > text.size()) continue;
         if (!parse_directive(text, c.range).is_directive) return std::nullopt;
@@ -321,7 +316,7 @@ std::optional<json> hover_directive(const ProgramFile& file, const Block& b, uin
         if (token.size() < 4 || token.compare(0, 3, "OSP") != 0) return std::nullopt;
         if (!std::all_of(token.begin() + 3, token.end(), [](char ch) { return ch >= '0' && ch <= '9'; }))
             return std::nullopt;
-        return hover_result(rule_doc(token), file.source, {a, e}, enc);
+        return hover_result(rule_doc(token), source, {a, e}, enc);
     }
     return std::nullopt;
 }
@@ -364,27 +359,36 @@ std::string argument_doc(const MacroSpec& spec, const ArgSpec& a, int plane, con
     return out;
 }
 
-json hover(const ProgramFile& file, const AnalysisResult& states, const Config& config, uint32_t offset, Encoding enc) {
-    const SourceText& src = file.source;
+json hover(const DocumentModel& doc, const BlockRecord* at, const Config& config, uint32_t offset, Encoding enc) {
+    const SourceText& src = doc.source;
     const uint32_t line = src.line_of(offset);
-    if (line == 0 || line > file.blocks.size()) return nullptr;
-    const uint32_t idx = line - 1;
-    const Block& b = file.blocks[idx];
-    if (b.line != line) return nullptr;
-    const BlockInfo* info = idx < states.blocks.size() ? &states.blocks[idx] : nullptr;
+    if (line == 0 || line > doc.outline.lines) return nullptr;
+    // The block of the line: the walk's record, or the line parsed on its own.
+    Block parsed;
+    if (!at || at->block.line != line) {
+        at = nullptr;
+        const uint32_t start = src.line_start(line);
+        const std::string_view text = src.line_text(line);
+        const uint32_t text_end = start + static_cast<uint32_t>(text.size());
+        const uint32_t next = line < src.line_count() ? src.line_start(line + 1) : src.size();
+        FastLineParser parser;
+        parser.parse(LineRef{text, std::string_view(src.text()).substr(text_end, next - text_end), line, start}, parsed);
+    }
+    const Block& b = at ? at->block : parsed;
+    const BlockRecord* info = at;
     const MacroCall* call = info && info->call ? &*info->call : nullptr;
 
     // A rule ID inside an `(osplint: disable=...)` comment.
     for (const auto& c : b.comments)
         if (hits(c.range, offset)) {
-            if (auto h = hover_directive(file, b, offset, enc)) return *h;
+            if (auto h = hover_directive(src, b, offset, enc)) return *h;
             return nullptr;
         }
 
     // The macro named after CALL / MODIN.
     for (const auto& st : b.statements) {
         if ((st.kind == StmtKind::Call || st.kind == StmtKind::Modin) && hits(st.name_range, offset))
-            return hover_result(card_or_note(config, file, st.name), src, st.name_range, enc);
+            return hover_result(card_or_note(config, doc, st.name), src, st.name_range, enc);
     }
 
     // Words: exact hits first, then a word that ends at the cursor.
@@ -687,22 +691,30 @@ json code_actions(const std::string& uri, const json& params, const SourceText& 
 
 // --- document symbols ----------------------------------------------------
 
-json document_symbols(const ProgramFile& file, Encoding enc) {
+json document_symbols(const DocumentModel& doc, Encoding enc) {
     json out = json::array();
-    const SourceText& src = file.source;
-    for (const auto& p : file.programs) {
-        if (p.first_block >= p.end_block || p.end_block > file.blocks.size()) continue;
-        const Block& first = file.blocks[p.first_block];
-        const Block& last = file.blocks[p.end_block - 1];
+    const SourceText& src = doc.source;
+    const auto& programs = doc.outline.programs;
+    FastLineParser parser;
+    Block b;
+    for (size_t pi = 0; pi < programs.size(); ++pi) {
+        const ProgramOutline& p = programs[pi];
+        const uint32_t first_line = p.line;
+        const uint32_t last_line = pi + 1 < programs.size() ? programs[pi + 1].line - 1 : doc.outline.lines;
+        if (first_line > last_line) continue;
         json children = json::array();
-        for (uint32_t i = p.first_block; i < p.end_block; ++i) {
-            const Block& b = file.blocks[i];
+        size_t labels = 0;
+        for (uint32_t line = first_line; line <= last_line; ++line) {
+            const std::string_view text = src.line_text(line);
+            // A sequence name starts its block (after blanks or a block delete).
+            const size_t k = text.find_first_not_of(" \t/");
+            if (k == std::string_view::npos || (text[k] != 'N' && text[k] != 'n')) continue;
+            const uint32_t start = src.line_start(line);
+            parser.parse(LineRef{text, {}, line, start}, b);
             if (!b.sequence) continue;
-            std::string detail(
-                std::string_view(src.text())
-                    .substr(b.sequence->range.end, b.range.end - std::min(b.range.end, b.sequence->range.end)));
-            detail = detail.substr(0, 60);
-            while (!detail.empty() && (detail.front() == ' ' || detail.front() == '\t')) detail.erase(0, 1);
+            if (++labels > kMaxSequenceSymbols) break;
+            std::string detail(text.substr(b.sequence->range.end - start));
+            detail = std::string(trim_blanks(detail)).substr(0, 60);
             json sym = {{"name", b.sequence->name},
                         {"kind", 20},  // Key
                         {"range", to_lsp_range(src, b.range, enc)},
@@ -711,11 +723,14 @@ json document_symbols(const ProgramFile& file, Encoding enc) {
             children.push_back(std::move(sym));
         }
         if (p.name.empty() && children.empty()) continue;
-        const ByteRange whole{first.range.begin, last.range.end};
+        const uint32_t begin = src.line_start(first_line);
+        const ByteRange whole{begin, begin + static_cast<uint32_t>(src.line_text(last_line).size()) +
+                                         (src.line_start(last_line) - begin)};
+        const ByteRange first_range{begin, begin + static_cast<uint32_t>(src.line_text(first_line).size())};
         json sym = {{"name", p.name.empty() ? std::string("(unnamed program)") : p.name},
                     {"kind", 12},  // Function
                     {"range", to_lsp_range(src, whole, enc)},
-                    {"selectionRange", to_lsp_range(src, p.name.empty() ? first.range : p.name_range, enc)},
+                    {"selectionRange", to_lsp_range(src, p.name.empty() ? first_range : p.name_range, enc)},
                     {"children", std::move(children)}};
         out.push_back(std::move(sym));
     }

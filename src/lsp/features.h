@@ -9,9 +9,11 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/analyzer.h"
-#include "semantics/config.h"
+#include "engine/record.h"
+#include "engine/workspace.h"
+#include "lsp/document.h"
 #include "lsp/text.h"
+#include "semantics/config.h"
 
 namespace osplint::lsp {
 
@@ -25,9 +27,9 @@ json to_lsp_diagnostic(const Diagnostic& d, const std::string& uri, Encoding enc
 json publish_params(const std::string& uri, int64_t version, const std::vector<Diagnostic>& diags, Encoding enc);
 
 // --- hover ---------------------------------------------------------------
-// `states` is an analysis of `file` with keep_states (per-block modal state
-// and resolved calls). Returns null when there is nothing to say.
-json hover(const ProgramFile& file, const AnalysisResult& states, const Config& config, uint32_t offset, Encoding enc);
+// `at` is the block of the hovered line with its modal states (lsp/document.h:
+// block_at), or null when it is not known. Returns null when there is nothing to say.
+json hover(const DocumentModel& doc, const BlockRecord* at, const Config& config, uint32_t offset, Encoding enc);
 
 // Meaning of a common G or M code ("G81", "M52"), or nullopt.
 std::optional<std::string_view> code_meaning(std::string_view code);
@@ -45,6 +47,8 @@ json completion(std::string_view line, uint32_t column, const Config& config, co
 json code_actions(const std::string& uri, const json& params, const SourceText& text, int64_t version, Encoding enc);
 
 // --- document symbols ----------------------------------------------------
-json document_symbols(const ProgramFile& file, Encoding enc);
+// Programs, with their sequence names (at most kMaxSequenceSymbols per program).
+inline constexpr size_t kMaxSequenceSymbols = 5000;
+json document_symbols(const DocumentModel& doc, Encoding enc);
 
 }  // namespace osplint::lsp

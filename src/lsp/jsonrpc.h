@@ -48,12 +48,12 @@ json make_request(const json& id, std::string_view method, json params);
 // Serialises (invalid UTF-8 in strings becomes U+FFFD) and frames messages.
 class MessageWriter {
 public:
-    explicit MessageWriter(ByteSink& sink) : sink_(sink) {}
+    explicit MessageWriter(OutputStream& sink) : sink_(sink) {}
     bool send(const json& message);
 
 private:
     std::mutex m_;
-    ByteSink& sink_;
+    OutputStream& sink_;
 };
 
 }  // namespace osplint::lsp

@@ -4,10 +4,12 @@
 #include <fstream>
 #include <iterator>
 
-#include "support/errors.h"
-#include "lsp/features.h"
+#include "api/check.h"
+#include "api/config.h"
 #include "osplint/osplint.h"
-#include "engine/suppress.h"
+#include "lsp/features.h"
+#include "support/errors.h"
+#include "support/text.h"
 
 namespace fs = std::filesystem;
 
@@ -29,12 +31,6 @@ std::string uri_of(const json& params) {
     const json& uri = field(td, "uri");
     if (!uri.is_string()) throw std::invalid_argument("textDocument.uri must be a string");
     return uri.get<std::string>();
-}
-
-bool is_subprogram_file(const fs::path& p) {
-    std::string ext = p.extension().string();
-    for (auto& c : ext) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return ext == ".SSB" || ext == ".SUB" || ext == ".LIB" || ext == ".MSB";
 }
 
 bool ends_with_ci(std::string_view s, std::string_view suffix) {
@@ -94,7 +90,7 @@ ConfigCache::Lookup ConfigCache::get(const std::optional<fs::path>& dir) {
 
 // --- the session -------------------------------------------------------------
 
-Server::Server(ByteSource& in, ByteSink& out, ServerOptions options)
+Server::Server(InputStream& in, OutputStream& out, ServerOptions options)
     : reader_(in), writer_(out), options_(std::move(options)) {
     worker_ = std::thread([this] { worker_loop(); });
 }
@@ -231,7 +227,7 @@ void Server::on_notification(const std::string& method, const json& params) {
                 if (ends_with_ci(uri, "osplint.toml")) {
                     configs_.invalidate();
                     relevant = true;
-                } else if (is_subprogram_file(fs::path(uri))) {
+                } else if (is_subprogram_file(uri)) {
                     names_stale_ = true;
                     relevant = true;
                 }
@@ -425,35 +421,13 @@ std::optional<fs::path> Server::config_dir(const std::optional<std::string>& pat
 
 void Server::collect_known(Model& m, const std::optional<std::string>& path) {
     m.known.clear();
-    if (names_stale_.exchange(false)) names_cache_.clear();
+    if (names_stale_.exchange(false)) directories_.invalidate();
     // Subprogram files beside the document (.SSB/.SUB/.LIB/.MSB).
-    if (path) {
-        fs::path dir = fs::path(*path).parent_path();
-        if (dir.empty()) dir = ".";
-        std::error_code ec;
-        for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-            if (!is_subprogram_file(it->path())) continue;
-            std::error_code e2;
-            if (!it->is_regular_file(e2)) continue;
-            const auto size = it->file_size(e2);
-            const auto mtime = it->last_write_time(e2);
-            if (e2 || size > (64u << 20)) continue;
-            auto& entry = names_cache_[it->path().string()];
-            if (entry.mtime != mtime || entry.size != size || entry.names.empty()) {
-                std::ifstream in(it->path(), std::ios::binary);
-                std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-                entry.names.clear();
-                collect_program_names(text, entry.names);
-                entry.mtime = mtime;
-                entry.size = size;
-            }
-            m.known.insert(entry.names.begin(), entry.names.end());
-        }
-    }
+    if (path) directories_.add_names(fs::path(*path).parent_path(), m.known);
     // Programs of the other open documents, as last analysed.
     for (const auto& [uri, other] : models_) {
         if (&other == &m) continue;
-        for (const auto& p : other.file.programs)
+        for (const auto& p : other.doc.outline.programs)
             if (!p.name.empty()) m.known.insert(p.name);
     }
 }
@@ -478,39 +452,32 @@ void Server::update_model(Model& m, Job& job) {
         m = Model{};
         m.generation = job.generation;
     }
-    m.file.path = job.path ? *job.path : job.uri;
     const auto t0 = Clock::now();
-    const ReparseStats parsed = reparse(m.file, std::move(job.text));
-    const auto t1 = Clock::now();
+    m.doc.path = job.path ? *job.path : job.uri;
+    m.doc.source = SourceText(std::move(job.text));
     m.version = job.version;
     m.config = lookup.config;
-    m.states.reset();
+    m.hovered.reset();
     collect_known(m, job.path);
+    ResultCollector collect(false);
     AnalysisOptions opts;
     opts.known_programs = &m.known;
-    opts.keep_states = m.file.source.size() < options_.keep_states_below;
-    AnalysisResult r = analyze(m.file, *m.config, opts);
+    opts.outline = &m.doc.outline;
+    MemorySource src(m.doc.source.text());
+    check_source(m.doc.path, src, *m.config, opts, collect);
     // The same findings as `osplint check`: directives in the file apply.
-    m.diagnostics = apply_suppressions(m.file, std::move(r.diagnostics), *m.config, opts).diagnostics;
-    if (opts.keep_states) m.states = std::move(r);
+    m.diagnostics = std::move(collect.take().diagnostics);
     if (options_.log_timing) {
-        const auto t2 = Clock::now();
+        const auto t1 = Clock::now();
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-        log(job.uri + " v" + std::to_string(job.version) + ": " +
-            (parsed.full ? "full parse " : "re-parsed " + std::to_string(parsed.lines_parsed) + " line(s) ") +
-            std::to_string(ms(t0, t1)) + " ms, rules " + std::to_string(ms(t1, t2)) + " ms, " +
+        log(job.uri + " v" + std::to_string(job.version) + ": analysed in " + std::to_string(ms(t0, t1)) + " ms, " +
             std::to_string(m.diagnostics.size()) + " finding(s)");
     }
 }
 
-const AnalysisResult& Server::states_of(Model& m) {
-    if (!m.states) {
-        AnalysisOptions opts;
-        opts.known_programs = &m.known;
-        opts.keep_states = true;
-        m.states = analyze(m.file, *m.config, opts);
-    }
-    return *m.states;
+const BlockRecord* Server::block_of(Model& m, uint32_t line) {
+    if (!m.hovered || m.hovered->block.line != line) m.hovered = block_at(m.doc, *m.config, &m.known, line);
+    return m.hovered ? &*m.hovered : nullptr;
 }
 
 void Server::run_job(Job& job) {
@@ -524,7 +491,7 @@ void Server::run_job(Job& job) {
             send(make_notification("window/showMessage",
                                    {{"type", 1}, {"message", std::string("osplint: analysis failed: ") + e.what()}}));
             m.diagnostics.clear();
-            m.states.reset();
+            m.hovered.reset();
             if (!m.config) m.config = configs_.get(std::nullopt).config;
         }
         std::lock_guard lock(m_);
@@ -553,20 +520,21 @@ void Server::run_job(Job& job) {
 json Server::answer(const Pending& p, Model& m, bool current) {
     const bool is_hover = p.method == "textDocument/hover";
     if (!current) return is_hover ? json(nullptr) : json::array();
-    if (p.method == "textDocument/documentSymbol") return document_symbols(m.file, encoding_);
+    const SourceText& source = m.doc.source;
+    if (p.method == "textDocument/documentSymbol") return document_symbols(m.doc, encoding_);
     if (p.method == "textDocument/codeAction") {
         field(p.params, "context");
-        return code_actions(uri_of(p.params), p.params, m.file.source, m.version, encoding_);
+        return code_actions(uri_of(p.params), p.params, source, m.version, encoding_);
     }
-    const uint32_t offset = from_lsp_position(m.file.source, field(p.params, "position"), encoding_);
-    if (is_hover) return hover(m.file, states_of(m), *m.config, offset, encoding_);
+    const uint32_t offset = from_lsp_position(source, field(p.params, "position"), encoding_);
+    const uint32_t line = source.line_of(offset);
+    if (is_hover) return hover(m.doc, block_of(m, line), *m.config, offset, encoding_);
     // Completion: the line up to the cursor, the programs known here.
-    const uint32_t line = m.file.source.line_of(offset);
-    const uint32_t column = offset - m.file.source.line_start(line);
+    const uint32_t column = offset - source.line_start(line);
     ProgramNames programs = m.known;
-    for (const auto& prog : m.file.programs)
+    for (const auto& prog : m.doc.outline.programs)
         if (!prog.name.empty()) programs.insert(prog.name);
-    return completion(m.file.source.line_text(line), column, *m.config, programs);
+    return completion(source.line_text(line), column, *m.config, programs);
 }
 
 }  // namespace osplint::lsp

@@ -1,13 +1,13 @@
 // Language server, layers 3-4: the LSP session and its analysis worker.
 //
-//   transport (lsp_transport) -> JSON-RPC (lsp_jsonrpc) -> this file: lifecycle,
-//   documents, scheduling -> features (lsp_features) -> the shared analysis
-//   engine (frontend + analyze(), the same as `osplint check`).
+//   transport (lsp/transport.h) -> JSON-RPC (lsp/jsonrpc.h) -> this file:
+//   lifecycle, documents, scheduling -> features (lsp/features.h) -> the
+//   analysis engine (engine/engine.h, the same as `osplint check`).
 //
 // The message loop (run()) only reads, classifies and records: document text
 // is kept here, every request about a document and every analysis is handed
-// to one worker thread. The worker owns the parsed model of each document,
-// re-parses only the lines an edit touched (lsp_text.h), re-runs the rules,
+// to one worker thread. The worker owns the model of each document (its text,
+// line index and outline: lsp/document.h), runs the engine over the text,
 // publishes the diagnostics unless the document changed meanwhile, and then
 // answers the requests that waited for that version.
 #pragma once
@@ -26,19 +26,17 @@
 #include <thread>
 #include <vector>
 
-#include "engine/analyzer.h"
-#include "semantics/config.h"
+#include "engine/workspace.h"
+#include "lsp/document.h"
 #include "lsp/jsonrpc.h"
 #include "lsp/text.h"
+#include "semantics/config.h"
 
 namespace osplint::lsp {
 
 struct ServerOptions {
     // Quiet time after an edit before the analysis starts.
     std::chrono::milliseconds debounce{10};
-    // Files up to this size are analysed with the modal state kept, so hover
-    // needs no second run; larger ones get it on the first hover.
-    std::size_t keep_states_below = 256u << 10;
     // Diagnostics about the server itself (stderr for `osplint lsp`).
     std::function<void(const std::string&)> log;
     // Also log the time each analysis took (parse, rules, publish).
@@ -72,7 +70,7 @@ private:
 
 class Server {
 public:
-    Server(ByteSource& in, ByteSink& out, ServerOptions options = {});
+    Server(InputStream& in, OutputStream& out, ServerOptions options = {});
     ~Server();
     Server(const Server&) = delete;
     Server& operator=(const Server&) = delete;
@@ -105,11 +103,11 @@ private:
     struct Model {
         uint64_t generation = 0;
         int64_t version = -1;
-        ProgramFile file;
+        DocumentModel doc;
         std::shared_ptr<const Config> config;
         ProgramNames known;
         std::vector<Diagnostic> diagnostics;
-        std::optional<AnalysisResult> states;
+        std::optional<BlockRecord> hovered;  // the block of the last hover, for this version
     };
 
     struct Job {
@@ -137,7 +135,7 @@ private:
     void worker_loop();
     void run_job(Job& job);
     void update_model(Model& m, Job& job);
-    const AnalysisResult& states_of(Model& m);
+    const BlockRecord* block_of(Model& m, uint32_t line);
     json answer(const Pending& p, Model& m, bool current);
     std::optional<std::filesystem::path> config_dir(const std::optional<std::string>& path) const;
     void collect_known(Model& m, const std::optional<std::string>& path);
@@ -158,12 +156,7 @@ private:
 
     // Worker thread only.
     std::map<std::string, Model> models_;
-    struct NamesEntry {
-        std::filesystem::file_time_type mtime{};
-        std::uintmax_t size = 0;
-        ProgramNames names;
-    };
-    std::map<std::string, NamesEntry> names_cache_;
+    SubprogramDirectories directories_;
     std::atomic<bool> names_stale_{false};
 
     ConfigCache configs_;

@@ -45,14 +45,4 @@ void apply_change(std::string& text, const json& change, Encoding enc);
 std::optional<std::string> uri_to_path(std::string_view uri);
 std::string path_to_uri(std::string_view path);
 
-// Re-parses `file` for `new_text`: only the lines that differ from the text it
-// was parsed from are parsed again; the blocks before them are kept and the
-// blocks after them are shifted. Falls back to a full parse when that is
-// simpler. The result equals parse_program_file(file.path, new_text).
-struct ReparseStats {
-    bool full = false;
-    uint32_t lines_parsed = 0;
-};
-ReparseStats reparse(ProgramFile& file, std::string new_text);
-
 }  // namespace osplint::lsp

@@ -9,7 +9,7 @@
 
 namespace osplint::lsp {
 
-std::size_t FdSource::read(char* buf, std::size_t n) {
+std::size_t FdInput::read(char* buf, std::size_t n) {
     for (;;) {
         const ssize_t r = ::read(fd_, buf, n);
         if (r >= 0) return static_cast<std::size_t>(r);
@@ -18,7 +18,7 @@ std::size_t FdSource::read(char* buf, std::size_t n) {
     }
 }
 
-bool FdSink::write(std::string_view bytes) {
+bool FdOutput::write(std::string_view bytes) {
     while (!bytes.empty()) {
         const ssize_t r = ::write(fd_, bytes.data(), bytes.size());
         if (r < 0) {
@@ -30,7 +30,7 @@ bool FdSink::write(std::string_view bytes) {
     return true;
 }
 
-void PipeSource::push(std::string_view bytes) {
+void PipeInput::push(std::string_view bytes) {
     {
         std::lock_guard lock(m_);
         data_.insert(data_.end(), bytes.begin(), bytes.end());
@@ -38,7 +38,7 @@ void PipeSource::push(std::string_view bytes) {
     cv_.notify_all();
 }
 
-void PipeSource::close() {
+void PipeInput::close() {
     {
         std::lock_guard lock(m_);
         closed_ = true;
@@ -46,7 +46,7 @@ void PipeSource::close() {
     cv_.notify_all();
 }
 
-std::size_t PipeSource::read(char* buf, std::size_t n) {
+std::size_t PipeInput::read(char* buf, std::size_t n) {
     std::unique_lock lock(m_);
     cv_.wait(lock, [&] { return closed_ || !data_.empty(); });
     const std::size_t k = std::min(n, data_.size());
@@ -55,7 +55,7 @@ std::size_t PipeSource::read(char* buf, std::size_t n) {
     return k;
 }
 
-bool MemorySink::write(std::string_view bytes) {
+bool MemoryOutput::write(std::string_view bytes) {
     {
         std::lock_guard lock(m_);
         if (closed_) return false;
@@ -65,12 +65,12 @@ bool MemorySink::write(std::string_view bytes) {
     return true;
 }
 
-void MemorySink::close() {
+void MemoryOutput::close() {
     std::lock_guard lock(m_);
     closed_ = true;
 }
 
-bool MemorySink::take(std::string& body) {
+bool MemoryOutput::take(std::string& body) {
     const std::size_t end = buf_.find("\r\n\r\n");
     if (end == std::string::npos) return false;
     const std::string_view header(buf_.data(), end);
@@ -83,7 +83,7 @@ bool MemorySink::take(std::string& body) {
     return true;
 }
 
-std::string MemorySink::next(int timeout_ms) {
+std::string MemoryOutput::next(int timeout_ms) {
     std::unique_lock lock(m_);
     std::string body;
     cv_.wait_for(lock, std::chrono::milliseconds(timeout_ms), [&] { return take(body); });

@@ -27,34 +27,34 @@ inline constexpr std::size_t kMaxContentLength = 64u << 20;
 // Longest header line kept while looking for the end of a header line.
 inline constexpr std::size_t kMaxHeaderLine = 4096;
 
-class ByteSource {
+class InputStream {
 public:
-    virtual ~ByteSource() = default;
+    virtual ~InputStream() = default;
     // Reads up to `n` bytes into `buf`; blocks until at least one byte is
     // available. Returns 0 at end of input.
     virtual std::size_t read(char* buf, std::size_t n) = 0;
 };
 
-class ByteSink {
+class OutputStream {
 public:
-    virtual ~ByteSink() = default;
+    virtual ~OutputStream() = default;
     // Writes all of `bytes` (and flushes). Returns false when the peer is gone.
     virtual bool write(std::string_view bytes) = 0;
 };
 
 // A file descriptor (stdin/stdout of `osplint lsp`). Retries on EINTR.
-class FdSource final : public ByteSource {
+class FdInput final : public InputStream {
 public:
-    explicit FdSource(int fd) : fd_(fd) {}
+    explicit FdInput(int fd) : fd_(fd) {}
     std::size_t read(char* buf, std::size_t n) override;
 
 private:
     int fd_;
 };
 
-class FdSink final : public ByteSink {
+class FdOutput final : public OutputStream {
 public:
-    explicit FdSink(int fd) : fd_(fd) {}
+    explicit FdOutput(int fd) : fd_(fd) {}
     bool write(std::string_view bytes) override;
 
 private:
@@ -63,7 +63,7 @@ private:
 
 // An in-memory pipe: one thread pushes bytes, the reader blocks until bytes
 // arrive or the pipe is closed (then reads return 0). Used by tests.
-class PipeSource final : public ByteSource {
+class PipeInput final : public InputStream {
 public:
     void push(std::string_view bytes);
     void close();
@@ -78,7 +78,7 @@ private:
 
 // Collects what the server writes and hands it back one message body at a
 // time (tests, the benchmark). The server's output is always well framed.
-class MemorySink final : public ByteSink {
+class MemoryOutput final : public OutputStream {
 public:
     bool write(std::string_view bytes) override;
     // The next body, waiting up to `timeout_ms`; empty string on timeout.
@@ -105,7 +105,7 @@ struct ReadResult {
 // Splits a byte stream into message bodies.
 class FrameReader {
 public:
-    explicit FrameReader(ByteSource& source) : src_(source) {}
+    explicit FrameReader(InputStream& source) : src_(source) {}
     ReadResult next();
 
 private:
@@ -114,7 +114,7 @@ private:
     ReadResult refuse(std::string problem);
     std::size_t find_content_length(std::size_t from, std::size_t to) const;
 
-    ByteSource& src_;
+    InputStream& src_;
     std::string buf_;
     std::size_t pos_ = 0;
     bool eof_ = false;

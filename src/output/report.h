@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "support/diagnostic.h"
+#include "osplint/diagnostic.h"
 #include "osplint/osplint.h"
 
 namespace osplint {

@@ -6,7 +6,6 @@
 #include <toml++/toml.h>
 
 #include "support/errors.h"
-#include "rules/registry.h"
 
 namespace osplint {
 namespace {
@@ -83,11 +82,13 @@ void read_machine(Config& c, const std::string& origin, const toml::table& m) {
     }
 }
 
-void read_rules(Config& c, const std::string& origin, const toml::table& r) {
+void read_rules(Config& c, const std::string& origin, const toml::table& r, const RuleIdentities& rules) {
     for (const auto& [k, v] : r) {
         std::string id(k.str());
         std::string key = "rules." + id;
-        if (!find_rule(id)) fail(origin, v, key, "unknown rule ID (see `osplint rules`)");
+        bool known = false;
+        for (const auto& m : rules) known = known || m.id == id;
+        if (!known) fail(origin, v, key, "unknown rule ID (see `osplint rules`)");
         auto s = expect_string(origin, v, key);
         if (s == "off") {
             c.rule_severity[id] = std::nullopt;
@@ -108,7 +109,7 @@ std::optional<Severity> Config::severity_of(std::string_view id, Severity defaul
     return default_severity;
 }
 
-Config parse_config(std::string_view text, const std::string& origin) {
+Config read_config_text(std::string_view text, const std::string& origin, const RuleIdentities& rules) {
     toml::table root;
     try {
         root = toml::parse(text, origin);
@@ -139,7 +140,7 @@ Config parse_config(std::string_view text, const std::string& origin) {
             }
         }
     }
-    if (const auto* n = root.get("rules")) read_rules(c, origin, expect_table(origin, *n, "rules"));
+    if (const auto* n = root.get("rules")) read_rules(c, origin, expect_table(origin, *n, "rules"), rules);
     if (const auto* n = root.get("analysis")) {
         const auto& t = expect_table(origin, *n, "analysis");
         check_keys(origin, t, "analysis.", {"explain-unknown"});
@@ -153,12 +154,12 @@ Config parse_config(std::string_view text, const std::string& origin) {
     return c;
 }
 
-Config load_config(const std::filesystem::path& file) {
+Config read_config_file(const std::filesystem::path& file, const RuleIdentities& rules) {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw ConfigError(file.string(), 0, "", "cannot read the configuration file");
     std::ostringstream ss;
     ss << in.rdbuf();
-    return parse_config(ss.str(), file.string());
+    return read_config_text(ss.str(), file.string(), rules);
 }
 
 std::optional<std::filesystem::path> find_config(const std::filesystem::path& dir) {
@@ -174,7 +175,7 @@ std::optional<std::filesystem::path> find_config(const std::filesystem::path& di
     return std::nullopt;
 }
 
-std::string dump_config(const Config& c) {
+std::string render_config(const Config& c, const RuleIdentities& rule_ids) {
     toml::table root;
     toml::table machine;
     machine.insert("units", c.units == Units::Mm ? "mm" : "inch");
@@ -195,7 +196,7 @@ std::string dump_config(const Config& c) {
     macros.insert("gcode", std::move(gcode));
     root.insert("macros", std::move(macros));
     toml::table rules;
-    for (const auto& m : all_rules()) {
+    for (const auto& m : rule_ids) {
         auto sev = c.severity_of(m.id, m.severity, m.enabled_by_default);
         rules.insert(std::string(m.id), sev ? std::string(severity_name(*sev)) : std::string("off"));
     }

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "catalog/catalog.h"
-#include "support/diagnostic.h"
+#include "osplint/diagnostic.h"
 #include "semantics/modal.h"
 
 namespace osplint {
@@ -36,13 +36,22 @@ struct Config {
                                         bool enabled_by_default) const;
 };
 
-// Reads and validates a configuration file. Throws ConfigError (file, line, key).
-Config load_config(const std::filesystem::path& file);
-// Parses configuration text (for tests and the language server).
-Config parse_config(std::string_view text, const std::string& origin);
+// What a configuration may name: the IDs of the rules (the rules layer knows
+// them; api/config.h reads configurations against the built-in rules).
+struct RuleIdentity {
+    std::string_view id;
+    Severity severity;
+    bool enabled_by_default;
+};
+using RuleIdentities = std::vector<RuleIdentity>;
+
+// Reads and validates configuration text. Throws ConfigError (file, line, key).
+Config read_config_text(std::string_view text, const std::string& origin, const RuleIdentities& rules);
+// The same for a file.
+Config read_config_file(const std::filesystem::path& file, const RuleIdentities& rules);
 // The nearest osplint.toml in `dir` or its parents.
 std::optional<std::filesystem::path> find_config(const std::filesystem::path& dir);
-// The effective configuration as TOML (`osplint config`).
-std::string dump_config(const Config& config);
+// The effective configuration as TOML (`osplint config`), every rule's severity included.
+std::string render_config(const Config& config, const RuleIdentities& rules);
 
 }  // namespace osplint

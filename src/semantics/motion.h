@@ -26,11 +26,10 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/analyzer.h"
 #include "semantics/config.h"
 #include "semantics/modal.h"
 #include "syntax/model.h"
-#include "engine/rule.h"
+#include "semantics/calls.h"
 
 namespace osplint {
 
@@ -151,27 +150,6 @@ std::vector<TravelViolation> travel_violations(const Envelope& env, const Config
 std::vector<TravelViolation> positioning_violations(const Block& block, const ModalState& before,
                                                     const ModalState& after, const MacroCall* call,
                                                     const Config& config);
-
-// Every envelope of a checked file, in block order (needs the per-block states
-// of `analyze` with `keep_states`).
-std::vector<Envelope> file_envelopes(const ProgramFile& file, const AnalysisResult& result, const Config& config);
-
-// The side-view picture of `osplint trace --svg`: one column per cycle (holes
-// of the same cycle with the same envelope share a column), the envelope as a
-// bar, R/Z/A/T/I marks, travel limits, violations in red, a legend.
-struct SvgPanelScale {
-    char axis = 0;
-    double v_top = 0;          // axis value at the top of the plot area
-    double y_top = 0;          // pixel row of the top of the plot area
-    double px_per_unit = 1;    // pixels per axis unit (down = lower value)
-    double y(double v) const { return y_top + (v_top - v) * px_per_unit; }
-};
-struct SvgPicture {
-    std::string svg;
-    std::vector<SvgPanelScale> panels;
-    std::size_t columns = 0;
-};
-SvgPicture render_motion_svg(const std::vector<Envelope>& envelopes, const Config& config, std::string_view title);
 
 // A number as the trace and the messages print it: at most 4 decimals, no trailing zeros.
 std::string motion_number(double v);

@@ -1,16 +1,13 @@
-#include "engine/analyzer.h"
+#include "semantics/transfer.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <queue>
-#include <unordered_map>
 
 #include <fmt/format.h>
 
 #include "catalog/catalog.h"
 #include "semantics/eval.h"
-#include "rules/registry.h"
 
 namespace osplint {
 
@@ -714,6 +711,19 @@ void apply_plain_move(const Block& b, ModalState& s) {
         else if (absolute) ax = Val<double>::of(v);
         else ax = before[axis].known ? Val<double>::of(before[axis].value + v) : Val<double>{};
     }
+}
+
+bool ends_program(const Block& b) {
+    if (b.statement(StmtKind::Rts)) return true;
+    for (const auto& w : b.words)
+        if (w.address.size() == 1 && w.address[0] == 'M' && w.number && (*w.number == 2 || *w.number == 30))
+            return true;
+    return false;
+}
+
+void flow_out(const Block& block, const ModalState& before, ModalState& after) {
+    if (block.block_delete) after.merge(before);  // BLOCK SKIP may be on or off
+    after.clear_one_shots();                      // NCYL, NOEX, G100 belong to their block only
 }
 
 }  // namespace osplint

@@ -1,4 +1,4 @@
-#include "support/diagnostic.h"
+#include "osplint/diagnostic.h"
 
 #include <tuple>
 

@@ -20,20 +20,12 @@
 #include <string_view>
 #include <vector>
 
+#include "support/io.h"
 #include "syntax/model.h"
 #include "syntax/source.h"
 
 namespace osplint {
 
-// One line of a file: its text without the terminator, the terminator itself
-// ("\n", "\r\n", "\r" or "" for an unterminated last line), its 1-based number
-// and the byte offset where it starts.
-struct LineRef {
-    std::string_view text;
-    std::string_view terminator;
-    uint32_t line = 1;
-    uint32_t start = 0;
-};
 
 // Parses lines into Blocks. Keeps its scratch storage (and the storage of the
 // Block it fills) between calls, so that parsing a stream of ordinary blocks

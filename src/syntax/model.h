@@ -16,17 +16,10 @@
 #include <string_view>
 #include <vector>
 
+#include "osplint/diagnostic.h"
+
 namespace osplint {
 
-// Half-open byte range [begin, end) into the file's text.
-struct ByteRange {
-    uint32_t begin = 0;
-    uint32_t end = 0;
-    bool empty() const { return begin >= end; }
-    uint32_t size() const { return end > begin ? end - begin : 0; }
-    bool contains(uint32_t off) const { return off >= begin && off < end; }
-    friend bool operator==(const ByteRange&, const ByteRange&) = default;
-};
 
 using ExprId = int32_t;  // index into Block::exprs, or -1 for "none"
 inline constexpr ExprId kNoExpr = -1;

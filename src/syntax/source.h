@@ -12,17 +12,11 @@
 #include <string_view>
 #include <vector>
 
+#include "osplint/diagnostic.h"
 #include "syntax/model.h"
 
 namespace osplint {
 
-struct Position {
-    uint32_t line = 1;       // 1-based
-    uint32_t byte_col = 0;   // 0-based, in bytes from the line start
-    uint32_t cp_col = 0;     // 0-based, in Unicode code points
-    uint32_t utf16_col = 0;  // 0-based, in UTF-16 code units
-    friend bool operator==(const Position&, const Position&) = default;
-};
 
 // Counts code points and UTF-16 units in `bytes` (invalid bytes count 1 each).
 struct ColumnCount {

@@ -14,7 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "osplint/osplint.h"
+#include "api/check.h"
+#include "api/config.h"
 
 namespace osplint::testing {
 

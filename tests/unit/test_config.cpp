@@ -2,7 +2,7 @@
 // ConfigError that names the file, the line and the key.
 #include <doctest/doctest.h>
 
-#include "semantics/config.h"
+#include "api/config.h"
 #include "support/errors.h"
 
 using namespace osplint;

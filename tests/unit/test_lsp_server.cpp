@@ -119,8 +119,8 @@ public:
     }
 
 private:
-    PipeSource in_;
-    MemorySink out_;
+    PipeInput in_;
+    MemoryOutput out_;
     Server server_;
     std::thread thread_;
     std::atomic<int> exit_code_{-1};
@@ -396,11 +396,9 @@ TEST_CASE("lsp: results for outdated versions are dropped") {
 }
 
 TEST_CASE("lsp: hover: macro card, argument with plane axis, G/M codes with modal state, rule docs") {
-    // Small files keep the modal state from the first analysis; large ones
-    // compute it on the first hover. Both paths answer the same.
+    // The modal state of the hovered block comes from a walk of the document
+    // up to it.
     ServerOptions options = Session::quiet();
-    SUBCASE("states kept with the diagnostics") {}
-    SUBCASE("states computed on demand") { options.keep_states_below = 0; }
     Session s(options);
     s.initialize();
     const std::string text =

@@ -17,10 +17,10 @@
 
 #include <unistd.h>
 
-#include "syntax/frontend.h"
-#include "semantics/motion.h"
+#include "analysis.h"
 #include "expectations.h"
-#include "osplint/osplint.h"
+#include "output/svg.h"
+#include "semantics/motion.h"
 
 namespace fs = std::filesystem;
 using namespace osplint;
@@ -28,19 +28,16 @@ using namespace osplint;
 namespace {
 
 struct Traced {
-    ProgramFile file;
-    AnalysisResult result;
-    std::vector<Envelope> envelopes;
+    osplint::testing::Analysis analysis;
+    std::vector<Envelope> envelopes;  // of every reachable block that runs a macro or a hole, in order
 };
 
 Traced trace_text(const std::string& text, const Config& config = Config{}, const std::string& path = "T.MIN") {
     Traced t;
-    t.file = parse_program_file(path, text);
-    AnalysisOptions options;
-    options.keep_states = true;
-    options.only_rules = {"OSP001"};
-    t.result = analyze(t.file, config, options);
-    t.envelopes = file_envelopes(t.file, t.result, config);
+    t.analysis = osplint::testing::analyze_text(path, text, config);
+    for (const auto& b : t.analysis.blocks)
+        if (b.reachable)
+            if (auto env = cycle_envelope(b.view(), config)) t.envelopes.push_back(std::move(*env));
     return t;
 }
 
@@ -220,9 +217,9 @@ TEST_CASE("OG87C: spans PA, PR and PZ; the counterbore circle in the plane") {
 
 TEST_CASE("OG87C without PA: point A is the current position, or unknown") {
     Config config;
-    ProgramFile f = parse_program_file("T.MIN", "X-60. Y-40.\n");
-    REQUIRE(!f.blocks.empty());
-    const Block& b = f.blocks.front();
+    const auto a = osplint::testing::analyze_text("T.MIN", "X-60. Y-40.\n", config);
+    REQUIRE(!a.blocks.empty());
+    const Block& b = a.blocks.front().block;
     MacroCall call;
     call.kind = CallKind::ModinPositioning;
     call.name = "OG87C";

@@ -12,7 +12,8 @@
 #include "output/formats.h"
 #include "output/report.h"
 #include "output/sarif.h"
-#include "osplint/osplint.h"
+#include "api/check.h"
+#include "api/config.h"
 #include "rules/registry.h"
 
 using namespace osplint;

@@ -13,7 +13,7 @@
 #include <regex>
 
 #include "support/embedded.h"
-#include "engine/programs.h"
+#include "engine/workspace.h"
 #include "expectations.h"
 #include "rules/registry.h"
 
@@ -72,7 +72,7 @@ TEST_CASE("every rule has fixtures that pass with only that rule enabled") {
             AnalysisOptions options;
             options.only_rules = {std::string(meta.id)};
             ProgramNames names;
-            collect_directory_program_names(f.parent_path(), names);
+            SubprogramDirectories().add_names(f.parent_path(), names);
             options.known_programs = &names;
             std::string text = read_file(f);
             auto expected = parse_expectations(text);

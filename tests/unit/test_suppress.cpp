@@ -7,7 +7,8 @@
 
 #include "engine/baseline.h"
 #include "engine/suppress.h"
-#include "osplint/osplint.h"
+#include "api/check.h"
+#include "api/config.h"
 
 using namespace osplint;
 

@@ -1,0 +1,606 @@
+// The walk of the analysis engine (see engine.h).
+#include "engine/engine.h"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+
+#include "catalog/catalog.h"
+#include "engine/fingerprint.h"
+#include "engine/flow.h"
+#include "engine/positions.h"
+#include "engine/suppress.h"
+#include "semantics/eval.h"
+#include "semantics/transfer.h"
+#include "support/text.h"
+#include "syntax/frontend_fast.h"
+#include "syntax/outline.h"
+
+namespace osplint {
+namespace {
+
+// A state that may be absent (no path reaches the block).
+struct MaybeState {
+    bool reachable = false;
+    ModalState state;
+    // Merges `o` in; returns whether this changed.
+    bool merge(const ModalState& o) {
+        if (!reachable) {
+            state = o;
+            reachable = true;
+            return true;
+        }
+        ModalState before = state;
+        state.merge(o);
+        return !(state == before);
+    }
+    bool merge(const MaybeState& o) { return o.reachable ? merge(o.state) : false; }
+};
+
+// A line of a loop held in memory while the loop is iterated.
+struct HeldLine {
+    Block block;
+    uint32_t line = 0;
+    uint32_t start = 0;
+    uint32_t text_size = 0;
+    uint32_t terminator_size = 0;
+};
+
+class Walk final : public RuleContext {
+public:
+    Walk(const std::string& path, ByteSource& src, const Config& config, const EngineOptions& options,
+         DiagnosticSink& sink, EngineStats& stats)
+        : path_(path), src_(src), config_(config), options_(options), sink_(sink), stats_(stats),
+          main_(src, options.chunk_size), positions_(src) {}
+
+    std::string run();
+
+    // --- RuleContext
+    const Config& config() const override { return config_; }
+    const Catalog& catalog() const override { return config_.catalog; }
+    std::string_view path() const override { return path_; }
+    std::string_view text(ByteRange r) const override;
+    bool has_label(std::string_view name) const override;
+    bool has_program(std::string_view name) const override;
+    std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const override {
+        return evaluate(block, e, state);
+    }
+    SourceRange resolve(ByteRange r) const override { return positions_.range(r); }
+    Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) override;
+
+private:
+    enum class Mode { Iterate, Rules };
+
+    // --- reading
+    bool read(Block& b, LineRef& line);
+    void fail(std::string message);
+
+    // --- the walk
+    void walk_program(size_t index);
+    bool loop_head(const Block& b, uint32_t offset, uint32_t& extent) const;
+    void walk_loop(const Block& head, const LineRef& head_line);
+    void sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode);
+    void sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode);
+    void visit(const Block& b, const LineRef& line, Mode mode);
+    void enter(const Block& b, uint32_t offset);
+    void leave(const Block& b, const LineRef& line);
+    void contribute_name(std::string_view name, uint32_t offset);
+    void contribute_offset(uint32_t target, uint32_t offset);
+    void set_state(const MaybeState& s);
+    void check(const BlockView& view, const LineRef& line, bool plain);
+
+    // --- findings
+    std::string fingerprint_for(std::string_view rule, uint32_t line);
+    const std::vector<Comment>* comments_of(const LineData& ld);
+    void flush();
+
+    const std::string& path_;
+    ByteSource& src_;
+    const Config& config_;
+    const EngineOptions& options_;
+    DiagnosticSink& sink_;
+    EngineStats& stats_;
+
+    FileOutline outline_;
+    std::vector<std::unique_ptr<Rule>> rules_;
+    std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
+    bool plain_ok_ = true;            // plain_moves_possible with this catalog
+    std::optional<SuppressionFilter> filter_;
+    ProgramNames names_;              // this file's program names
+    bool fingerprints_ = false;
+    OccurrenceCounter occurrences_;
+
+    LineStream main_;
+    FastLineParser parser_;
+    mutable Positions positions_;
+    mutable std::string scratch_text_;
+    std::string error_;
+    bool stop_ = false;
+    uint64_t walked_ = 0;
+
+    // --- the current program
+    size_t program_index_ = 0;
+    ProgramFlow flow_;
+    Program program_;
+    bool library_ = false;
+    bool seen_main_ = false;
+    bool tracks_labels_ = false;  // the program references sequence names
+    std::unordered_map<std::string, MaybeState> pending_name_;  // states left by jumps, by target name
+    std::map<uint32_t, MaybeState> pending_offset_;             // states left by loop edges, by target block
+    std::unordered_map<std::string, std::vector<uint32_t>> defs_;  // referenced names -> blocks defining them
+    MaybeState final_state_;
+
+    // The state flowing into the next block: *A when reachable_.
+    ModalState states_[2];
+    ModalState* A_ = &states_[0];
+    ModalState* B_ = &states_[1];
+    bool reachable_ = false;
+    bool near_ = false;  // A and B differ at most in the fields a plain move sets
+    const ModalState unknown_{};
+
+    // --- the loop being iterated
+    bool in_loop_ = false;
+    uint32_t loop_start_ = 0;
+    bool loop_changed_ = false;
+    std::map<uint32_t, MaybeState> join_;  // accumulated states at the joins inside the loop
+
+    // --- findings of the block (or program) in hand
+    const Block* block_ = nullptr;
+    const std::vector<HeldLine>* held_ = nullptr;
+    std::vector<Diagnostic> findings_;
+    Block block_buf_;           // the block read last by the walk
+    Block comment_block_;       // a line parsed again for its comments
+    FastLineParser comment_parser_;
+};
+
+// ------------------------------------------------------------------ setup
+
+std::string Walk::run() {
+    OutlineOptions oo;
+    oo.chunk_size = options_.chunk_size;
+    outline_ = outline_file(src_, oo);
+    stats_.outline_lines_parsed += outline_.lines_parsed;
+    if (options_.outline) *options_.outline = outline_;
+    sink_.begin_file(path_);
+    if (!outline_.ok()) {
+        sink_.end_file(path_, outline_.error);
+        return outline_.error;
+    }
+    stats_.bytes = outline_.size;
+    stats_.lines = outline_.lines;
+    positions_.set_size(outline_.size);
+    fingerprints_ = sink_.wants_fingerprints();
+
+    if (options_.run_rules) rules_ = select_rules(*options_.rules, config_, options_.only_rules);
+    for (auto& r : rules_)
+        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    plain_ok_ = plain_moves_possible(config_.catalog);
+    filter_.emplace(outline_, *options_.rules, config_,
+                    options_.run_rules ? options_.only_rules : std::vector<std::string>{"(none)"});
+    for (const auto& p : outline_.programs)
+        if (!p.name.empty()) names_.insert(p.name);
+    library_ = is_subprogram_file(path_);
+
+    for (size_t i = 0; i < outline_.programs.size() && !stop_ && error_.empty(); ++i) walk_program(i);
+    if (error_.empty() && !stop_ && main_.next_offset() != outline_.size)
+        fail("the file changed while it was being checked: check it again");
+
+    // The findings about the directives.
+    for (Diagnostic& d : filter_->finish()) sink_.diagnostic(std::move(d));
+    sink_.end_file(path_, error_);
+    return error_;
+}
+
+void Walk::fail(std::string message) {
+    if (error_.empty()) error_ = std::move(message);
+    stop_ = true;
+}
+
+bool Walk::read(Block& b, LineRef& line) {
+    if (!main_.next(line)) {
+        if (main_.error()) fail(src_.error());
+        else fail("the file changed while it was being checked: check it again");
+        return false;
+    }
+    if (main_.last_start() + line.text.size() + line.terminator.size() > kMaxInputSize) {
+        fail(kTooLargeMessage);
+        return false;
+    }
+    positions_.note_line(line);
+    ++stats_.blocks_parsed;
+    if (!parser_.parse(line, b)) ++stats_.fallback_lines;
+    if (options_.cancel && (++walked_ & 1023) == 0 && options_.cancel->load(std::memory_order_relaxed)) {
+        fail(std::string(kCancelled));
+        return false;
+    }
+    return true;
+}
+
+// ------------------------------------------------------------- programs
+
+void Walk::walk_program(size_t index) {
+    const ProgramOutline& po = outline_.programs[index];
+    program_index_ = index;
+    flow_ = ProgramFlow(po, outline_.program_end(index));
+    tracks_labels_ = !po.references.empty();
+    pending_name_.clear();
+    pending_offset_.clear();
+    defs_.clear();
+    join_.clear();
+    final_state_ = MaybeState{};
+    ++stats_.programs;
+
+    bool subprogram = library_ || po.has_rts;
+    if (po.has_content && !subprogram) {
+        subprogram = seen_main_;
+        seen_main_ = true;
+    }
+    program_ = Program{};
+    program_.name = po.name;
+    program_.name_range = po.name_range;
+    program_.first_block = po.line - 1;
+    if (main_.next_offset() != po.offset) main_.seek(po.offset, po.line);
+
+    ProgramView pv{program_, subprogram, nullptr};
+    for (auto& r : rules_) r->begin_program(*this, pv);
+    if (options_.observer) options_.observer->program(program_, subprogram);
+
+    *A_ = initial_state(config_, subprogram);
+    reachable_ = true;
+    near_ = false;
+    Block& b = block_buf_;
+    LineRef line;
+    while (!stop_ && main_.next_offset() < flow_.end()) {
+        if (!read(b, line)) break;
+        uint32_t extent = 0;
+        if (flow_.has_flow() && loop_head(b, line.start, extent)) walk_loop(b, line);
+        else visit(b, line, Mode::Rules);
+    }
+    positions_.current.clear();
+    block_ = nullptr;
+    if (error_.empty() && !(stop_ && options_.observer)) {
+        program_.end_block = main_.next_line() - 1;
+        pv.final_state = final_state_.reachable ? &final_state_.state : nullptr;
+        for (auto& r : rules_) r->end_program(*this, pv);
+        flush();
+    }
+}
+
+// Whether the block starts a loop of the flow graph; `extent` grows to the
+// last block the loop reaches back from.
+bool Walk::loop_head(const Block& b, uint32_t offset, uint32_t& extent) const {
+    bool head = false;
+    if (b.sequence && tracks_labels_)
+        if (auto last = flow_.last_jump_to(b.sequence->name); last && *last >= offset) {
+            extent = std::max(extent, *last);
+            head = true;
+        }
+    if (const LoopPair* p = flow_.loop_at_head(offset)) {
+        extent = std::max(extent, p->end);
+        head = true;
+    }
+    return head;
+}
+
+// --------------------------------------------------------------- loops
+
+void Walk::walk_loop(const Block& head, const LineRef& head_line) {
+    ++stats_.loops;
+    const uint32_t start = head_line.start;
+    const uint32_t start_line = head_line.line;
+    uint32_t extent = start;
+    loop_head(head, start, extent);
+    const MaybeState entry{reachable_, reachable_ ? *A_ : ModalState{}};
+
+    in_loop_ = true;
+    loop_start_ = start;
+    join_.clear();
+
+    // First sweep, from the input: finds how far the loop reaches, holds its
+    // lines when they are few enough.
+    std::vector<HeldLine> held;
+    std::string held_text;
+    bool holding = options_.held_loop_blocks > 0;
+    auto hold = [&](const Block& b, const LineRef& l) {
+        if (!holding) return;
+        if (held.size() >= options_.held_loop_blocks) {
+            holding = false;
+            held.clear();
+            held_text.clear();
+            return;
+        }
+        held.push_back({b, l.line, l.start, static_cast<uint32_t>(l.text.size()),
+                        static_cast<uint32_t>(l.terminator.size())});
+        held_text.append(l.text);
+        held_text.append(l.terminator);
+    };
+    loop_changed_ = false;
+    set_state(entry);
+    hold(head, head_line);
+    visit(head, head_line, Mode::Iterate);
+    Block b;
+    LineRef line;
+    while (!stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end()) {
+        if (!read(b, line)) break;
+        loop_head(b, line.start, extent);
+        hold(b, line);
+        visit(b, line, Mode::Iterate);
+    }
+    const uint64_t end = main_.next_offset();
+    const uint32_t end_line = main_.next_line();
+    ++stats_.loop_sweeps;
+    if (holding) ++stats_.held_loops;
+
+    // Iterate until the states where paths join stop changing.
+    while (!stop_ && loop_changed_) {
+        loop_changed_ = false;
+        set_state(entry);
+        if (holding) sweep_held(held, held_text, Mode::Iterate);
+        else sweep_file(start, start_line, end, Mode::Iterate);
+        ++stats_.loop_sweeps;
+    }
+    // Once more, with the rules.
+    if (!stop_) {
+        set_state(entry);
+        if (holding) sweep_held(held, held_text, Mode::Rules);
+        else sweep_file(start, start_line, end, Mode::Rules);
+    }
+    if (holding && !stop_) main_.seek(end, end_line);
+    in_loop_ = false;
+    join_.clear();
+}
+
+void Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode) {
+    if (mode == Mode::Rules) {
+        positions_.current.clear();
+        positions_.held.set(text, held.front().start, held.front().line);
+        held_ = &held;
+    }
+    size_t at = 0;
+    for (const HeldLine& h : held) {
+        if (stop_) break;
+        const std::string_view t(text.data() + at, h.text_size);
+        const std::string_view term(text.data() + at + h.text_size, h.terminator_size);
+        at += h.text_size + h.terminator_size;
+        visit(h.block, LineRef{t, term, h.line, h.start}, mode);
+    }
+    positions_.held.clear();
+    held_ = nullptr;
+}
+
+void Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode) {
+    main_.seek(start, start_line);
+    Block b;
+    LineRef line;
+    while (!stop_ && main_.next_offset() < end) {
+        if (!read(b, line)) break;
+        visit(b, line, mode);
+    }
+}
+
+void Walk::set_state(const MaybeState& s) {
+    reachable_ = s.reachable;
+    if (s.reachable) *A_ = s.state;
+    near_ = false;
+}
+
+// ---------------------------------------------------------------- blocks
+
+// The state at the block's start where paths join: the state falling into
+// it, merged with what jumps and loop edges left for it.
+void Walk::enter(const Block& b, uint32_t offset) {
+    bool join = false;
+    MaybeState in;
+    auto take_in = [&] {
+        if (join) return;
+        join = true;
+        in.reachable = reachable_;
+        if (reachable_) in.state = *A_;
+    };
+    if (b.sequence && tracks_labels_ && flow_.is_referenced(b.sequence->name)) {
+        auto& defs = defs_[b.sequence->name];
+        if (defs.empty() || defs.back() < offset) defs.push_back(offset);
+        if (auto it = pending_name_.find(b.sequence->name); it != pending_name_.end()) {
+            take_in();
+            in.merge(it->second);
+        }
+    }
+    if (!pending_offset_.empty())
+        if (auto it = pending_offset_.find(offset); it != pending_offset_.end()) {
+            take_in();
+            in.merge(it->second);
+        }
+    if (!join) return;
+    if (in_loop_) {
+        MaybeState& j = join_[offset];
+        j.merge(in);
+        in = j;
+    }
+    set_state(in);
+}
+
+void Walk::contribute_name(std::string_view name, uint32_t offset) {
+    auto [it, inserted] = pending_name_.try_emplace(std::string(name));
+    if (!it->second.merge(*B_) || !in_loop_) return;
+    // A block already walked in this sweep defines the name: walk the loop again.
+    if (auto d = defs_.find(it->first); d != defs_.end())
+        for (uint32_t def : d->second)
+            if (def >= loop_start_ && def <= offset) loop_changed_ = true;
+}
+
+void Walk::contribute_offset(uint32_t target, uint32_t offset) {
+    if (!pending_offset_[target].merge(*B_)) return;
+    if (in_loop_ && target >= loop_start_ && target <= offset) loop_changed_ = true;
+}
+
+// After the block: the state flows on to its successors.
+void Walk::leave(const Block& b, const LineRef& line) {
+    flow_out(b, *A_, *B_);
+    const uint32_t next = line.end();
+    bool falls = true, exits = false;
+    if (has_flow_statement(b)) {
+        const BlockEdges e = block_edges(b, line.start, next, flow_);
+        for (std::string_view name : e.jumps) contribute_name(name, line.start);
+        for (uint32_t t : e.targets) contribute_offset(t, line.start);
+        falls = e.falls_through;
+        exits = e.exits;
+    } else {
+        if (ends_program(b)) {
+            exits = true;
+            if (!b.block_delete) falls = false;
+        }
+        if (falls && next >= flow_.end()) exits = true;
+    }
+    if (exits) final_state_.merge(*B_);
+    std::swap(A_, B_);
+    reachable_ = falls;
+}
+
+void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
+    enter(b, line.start);
+    const bool rules = mode == Mode::Rules;
+    if (rules) {
+        if (!held_) positions_.current.set_line(line);
+        block_ = &b;
+    }
+    if (!reachable_) {
+        if (!rules) return;
+        const std::optional<MacroCall> call = resolve_call(b, unknown_, config_.catalog);
+        ModalState after = unknown_;
+        apply_block(b, call ? &*call : nullptr, config_.catalog, after);
+        check(BlockView{b, unknown_, after, call ? &*call : nullptr, false}, line, false);
+        near_ = false;
+        return;
+    }
+    ++stats_.transfers;
+    const bool plain_line = parser_.last_plain() && &b == &block_buf_;
+    if (plain_ok_ && (plain_line || is_plain_move_block(b)) && plain_move_state(*A_)) {
+        // A plain move (semantics/transfer.h). A and B differ at most in what a
+        // plain move sets when `near_`, so those fields make B equal to A again.
+        if (near_) {
+            B_->motion = A_->motion;
+            B_->feed = A_->feed;
+            B_->x = A_->x;
+            B_->y = A_->y;
+            B_->z = A_->z;
+        } else {
+            *B_ = *A_;
+        }
+        apply_plain_move(b, *B_);
+        if (rules) check(BlockView{b, *A_, *B_, nullptr, true}, line, true);
+        if (line.end() >= flow_.end()) final_state_.merge(*B_);  // control falls off the last block
+        std::swap(A_, B_);
+        near_ = true;
+        return;
+    }
+    const std::optional<MacroCall> call = resolve_call(b, *A_, config_.catalog);
+    *B_ = *A_;
+    apply_block(b, call ? &*call : nullptr, config_.catalog, *B_);
+    near_ = false;
+    if (rules) check(BlockView{b, *A_, *B_, call ? &*call : nullptr, true}, line, false);
+    leave(b, line);
+}
+
+void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
+    if (plain) {
+        for (Rule* r : plain_rules_)
+            if (r->wants_plain_moves() || view.block.sequence) r->check_block(*this, view);
+    } else {
+        for (auto& r : rules_) r->check_block(*this, view);
+    }
+    if (options_.observer && !options_.observer->block(view, line)) stop_ = true;
+    if (!findings_.empty()) flush();
+}
+
+// ------------------------------------------------------------- findings
+
+std::string_view Walk::text(ByteRange r) const {
+    for (const Window* w : {&positions_.current, &positions_.held}) {
+        if (w->contains(r.begin) && w->contains(r.end)) return w->text.substr(r.begin - w->base, r.size());
+        // Past the end of the window: past the end of the file too when the
+        // window's last line has no terminator.
+        if (w->contains(r.begin) && !w->starts.empty() && w->starts.back() != w->text.size())
+            return w->text.substr(r.begin - w->base, r.size());
+    }
+    // Elsewhere in the file (no rule asks for that today): read it.
+    const uint64_t size = outline_.size;
+    const uint64_t begin = std::min<uint64_t>(r.begin, size);
+    const uint64_t len = std::min<uint64_t>(r.size(), size - begin);
+    scratch_text_.assign(len, '\0');
+    const int64_t got = len ? src_.read(begin, scratch_text_.data(), len) : 0;
+    scratch_text_.resize(got > 0 ? static_cast<size_t>(got) : 0);
+    return scratch_text_;
+}
+
+bool Walk::has_label(std::string_view name) const {
+    if (auto it = defs_.find(std::string(name)); it != defs_.end() && !it->second.empty()) return true;
+    if (flow_.is_referenced(name)) return false;
+    // A name the outline did not see referenced: the walk kept none of its
+    // definitions. Unknown, so no finding rests on it.
+    ++stats_.label_misses;
+    return true;
+}
+
+bool Walk::has_program(std::string_view name) const {
+    if (name.empty()) {
+        for (const auto& p : outline_.programs)
+            if (p.name.empty()) return true;
+        return false;
+    }
+    if (names_.find(name) != names_.end()) return true;
+    return options_.known_programs && options_.known_programs->find(name) != options_.known_programs->end();
+}
+
+Diagnostic& Walk::report(const RuleMeta& rule, ByteRange range, std::string message) {
+    Diagnostic d;
+    d.rule = std::string(rule.id);
+    d.name = std::string(rule.name);
+    d.severity = config_.severity_of(rule.id, rule.severity, rule.enabled_by_default).value_or(rule.severity);
+    d.message = std::move(message);
+    d.range = positions_.range(range);
+    d.line_text = abbreviate(positions_.line_text(d.range.start.line), 1000);
+    if (fingerprints_) d.fingerprint = fingerprint_for(rule.id, d.range.start.line);
+    findings_.push_back(std::move(d));
+    return findings_.back();
+}
+
+std::string Walk::fingerprint_for(std::string_view rule, uint32_t line) {
+    const LineData ld = positions_.line(line);
+    const std::string norm = fingerprint_text(ld.text, ld.start, ld.ok ? comments_of(ld) : nullptr);
+    return make_fingerprint(rule, program_.name, norm, occurrences_.next(rule, program_.name, norm));
+}
+
+// The comments of the block of a line.
+const std::vector<Comment>* Walk::comments_of(const LineData& ld) {
+    if (block_ && block_->line == ld.line) return &block_->comments;
+    if (held_)
+        for (const HeldLine& h : *held_)
+            if (h.line == ld.line) return &h.block.comments;
+    if (ld.text.empty() && ld.terminator.empty()) return nullptr;  // no block
+    comment_parser_.parse(LineRef{ld.text, ld.terminator, ld.line, ld.start}, comment_block_);
+    return &comment_block_.comments;
+}
+
+void Walk::flush() {
+    std::stable_sort(findings_.begin(), findings_.end(), diagnostic_less);
+    for (Diagnostic& d : findings_) {
+        SuppressedDiagnostic s;
+        if (filter_->silence(d, s)) sink_.suppressed(std::move(s));
+        else sink_.diagnostic(std::move(d));
+    }
+    findings_.clear();
+}
+
+}  // namespace
+
+std::string run_engine(const std::string& path, ByteSource& src, const Config& config, const EngineOptions& options,
+                       DiagnosticSink& sink, EngineStats* stats) {
+    EngineStats own;
+    Walk walk(path, src, config, options, sink, stats ? *stats : own);
+    return walk.run();
+}
+
+}  // namespace osplint

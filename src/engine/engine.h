@@ -1,0 +1,102 @@
+// The analysis engine: one input in, findings out, in a stream.
+//
+// Every entry point runs this: `osplint check` on files and standard input,
+// the language server on open documents, `osplint trace`, the library.
+//
+//   1. The outline (syntax/outline.h): one fast pass over the input finds the
+//      programs, the blocks that jump or loop, the sequence names jumped to
+//      and the suppression directives.
+//   2. The walk: program by program, block by block, each line parsed once
+//      (syntax/frontend_fast.h), the modal state carried from block to block
+//      (semantics/transfer.h), every enabled rule shown every block with the
+//      state before and after it. Where paths join (a sequence name jumped
+//      to, a loop head), the state is the merge of every state that reaches
+//      it. A jump forward leaves its state at the name it targets; a jump
+//      back (or a DO/WHILE ... END loop) makes its target the head of a loop
+//      of the flow graph: the walk iterates the blocks from the head to the
+//      last jump back, without the rules, until the states where paths join
+//      no longer change, then walks them once more with the rules. A loop of
+//      up to `held_loop_blocks` blocks is held in memory while it is
+//      iterated; a longer one is read again from the input.
+//   3. Findings are made as rules report them, checked against the file's
+//      suppression directives, and handed to a DiagnosticSink: those of a
+//      block after the block, those about a whole program after the program,
+//      those about the directives at the end of the file.
+//
+// What the walk keeps: the current line and block, two modal states, the
+// merged states at the blocks where paths join, the sequence names jumped to
+// with the blocks that define them, a checkpoint every 1024 lines, the rules'
+// own state. Nothing grows with the size of the input or with the number of
+// findings (fingerprints, when a sink asks for them, keep 8 bytes per distinct
+// finding).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/rule.h"
+#include "engine/workspace.h"
+#include "osplint/diagnostic.h"
+#include "semantics/calls.h"
+#include "semantics/config.h"
+#include "support/io.h"
+#include "syntax/outline.h"
+
+namespace osplint {
+
+// Sees every block the rules see, in the same order (trace, the language
+// server's hover and inlay hints, tests).
+class BlockObserver {
+public:
+    virtual ~BlockObserver() = default;
+    // Return false to stop the walk after this block.
+    virtual bool block(const BlockView& view, const LineRef& line) = 0;
+    // Called when a program starts (before its first block).
+    virtual void program(const Program& program, bool subprogram) {
+        (void)program;
+        (void)subprogram;
+    }
+};
+
+struct EngineOptions {
+    const RuleRegistry* rules = nullptr;           // required
+    const ProgramNames* known_programs = nullptr;  // program names defined outside this input
+    // Only run these rules (IDs); empty: every rule the configuration enables.
+    std::vector<std::string> only_rules;
+    size_t chunk_size = size_t(1) << 20;       // bytes read at a time
+    size_t held_loop_blocks = 8192;            // a loop of this many blocks or fewer is held in memory
+    BlockObserver* observer = nullptr;
+    bool run_rules = true;            // false: only the walk and the observer (trace, hover)
+    FileOutline* outline = nullptr;   // receives the input's outline when set
+    // Set from another thread to abandon the walk (the engine then reports
+    // "cancelled" as its I/O error).
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+// What the engine did (tests and benchmarks).
+struct EngineStats {
+    uint64_t bytes = 0;
+    uint64_t lines = 0;                // lines of the input
+    uint64_t outline_lines_parsed = 0; // lines the outline parsed
+    uint64_t blocks_parsed = 0;        // blocks the walk parsed (counting loops read again)
+    uint64_t fallback_lines = 0;       // ... of which by the tree-sitter front end
+    uint64_t programs = 0;
+    uint64_t loops = 0;                // loops of the flow graph iterated
+    uint64_t loop_sweeps = 0;          // sweeps over them without the rules
+    uint64_t held_loops = 0;           // loops held in memory
+    uint64_t transfers = 0;            // blocks applied to a state
+    uint64_t label_misses = 0;         // has_label asked for a name the walk did not keep (should stay 0)
+};
+
+inline constexpr std::string_view kCancelled = "cancelled";
+
+// Analyses `src` (reported under `path`) and hands the findings to `sink`:
+// begin_file, the findings, end_file. Returns the I/O error ("" when the input
+// was read to its end).
+std::string run_engine(const std::string& path, ByteSource& src, const Config& config, const EngineOptions& options,
+                       DiagnosticSink& sink, EngineStats* stats = nullptr);
+
+}  // namespace osplint

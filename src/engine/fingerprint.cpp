@@ -1,0 +1,59 @@
+#include "engine/fingerprint.h"
+
+#include <cctype>
+
+#include <fmt/format.h>
+
+namespace osplint {
+namespace {
+
+struct Fnv {
+    uint64_t h = 1469598103934665603ull;
+    void mix(std::string_view s) {
+        for (unsigned char c : s) {
+            h ^= c;
+            h *= 1099511628211ull;
+        }
+        h ^= 0xff;
+        h *= 1099511628211ull;
+    }
+};
+
+}  // namespace
+
+std::string fingerprint_text(std::string_view line, uint32_t line_start, const std::vector<Comment>* comments) {
+    auto in_comment = [&](uint32_t offset) {
+        if (!comments) return false;
+        for (const auto& c : *comments)
+            if (c.range.contains(offset)) return true;
+        return false;
+    };
+    std::string norm;
+    for (uint32_t i = 0; i < line.size(); ++i)
+        if (!std::isspace(static_cast<unsigned char>(line[i])) && !in_comment(line_start + i)) norm += line[i];
+    if (norm.empty())
+        for (char c : line)
+            if (!std::isspace(static_cast<unsigned char>(c))) norm += c;
+    return norm;
+}
+
+std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
+                             int occurrence) {
+    // FNV-1a 64, printed as hex: stable across platforms and runs.
+    Fnv f;
+    f.mix(rule);
+    f.mix(program);
+    f.mix(block_text);
+    f.mix(std::to_string(occurrence));
+    return fmt::format("{:016x}", f.h);
+}
+
+int OccurrenceCounter::next(std::string_view rule, std::string_view program, std::string_view block_text) {
+    Fnv f;
+    f.mix(rule);
+    f.mix(program);
+    f.mix(block_text);
+    return ++counts_[f.h];
+}
+
+}  // namespace osplint

@@ -1,0 +1,39 @@
+// Fingerprints: the identity of a finding that survives edits elsewhere in
+// the file (baselines, SARIF partialFingerprints). Made of the rule, the
+// program's name, the text of the finding's block with blanks folded and
+// comments left out, and the occurrence of that combination in the file —
+// never the line number.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "syntax/model.h"
+
+namespace osplint {
+
+// The text that identifies a finding's block: the line with blanks folded and
+// comments (`comments`, absolute offsets; may be null) left out, so that
+// neither a shifted line nor a comment added to the block changes it. A
+// comment-only line keeps its comments.
+std::string fingerprint_text(std::string_view line, uint32_t line_start, const std::vector<Comment>* comments);
+// rule + program + block text + occurrence, as 16 hex digits (FNV-1a 64).
+std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
+                             int occurrence);
+
+// Counts the occurrences of (rule, program, block text) in one file. Keeps a
+// 64-bit hash of each distinct combination and its count.
+class OccurrenceCounter {
+public:
+    // The 1-based occurrence of this combination, counting this one.
+    int next(std::string_view rule, std::string_view program, std::string_view block_text);
+    void clear() { counts_.clear(); }
+
+private:
+    std::unordered_map<uint64_t, int> counts_;
+};
+
+}  // namespace osplint

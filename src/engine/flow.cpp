@@ -1,0 +1,106 @@
+#include "engine/flow.h"
+
+#include <algorithm>
+
+#include "semantics/transfer.h"
+
+namespace osplint {
+
+ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end) : end_(end), references_(program.references) {
+    flow_ = !program.flow.empty();
+    // DO / WHILE n ... END n: the innermost open loop of the same number.
+    std::map<int, std::vector<const FlowSite*>> open;
+    for (const FlowSite& site : program.flow) {
+        for (const FlowStatement& st : site.statements) {
+            if ((st.kind == StmtKind::While || st.kind == StmtKind::Do) && st.loop >= 0) {
+                open[st.loop].push_back(&site);
+            } else if (st.kind == StmtKind::End && st.loop >= 0) {
+                auto& stack = open[st.loop];
+                if (stack.empty()) continue;
+                const FlowSite* head = stack.back();
+                stack.pop_back();
+                LoopPair pair;
+                pair.head = head->offset;
+                pair.end = site.offset;
+                pair.after_end = site.next;
+                for (const FlowStatement& h : head->statements)
+                    if (h.kind == StmtKind::While) pair.while_loop = true;
+                by_head_[pair.head] = pair;
+                by_end_[pair.end] = pair;
+            } else if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty()) {
+                uint32_t& last = last_jump_[st.name];
+                last = std::max(last, site.offset);
+            }
+        }
+    }
+}
+
+const LoopPair* ProgramFlow::loop_at_head(uint32_t offset) const {
+    auto it = by_head_.find(offset);
+    return it == by_head_.end() ? nullptr : &it->second;
+}
+
+const LoopPair* ProgramFlow::loop_at_end(uint32_t offset) const {
+    auto it = by_end_.find(offset);
+    return it == by_end_.end() ? nullptr : &it->second;
+}
+
+std::optional<uint32_t> ProgramFlow::last_jump_to(std::string_view name) const {
+    auto it = last_jump_.find(name);
+    if (it == last_jump_.end()) return std::nullopt;
+    return it->second;
+}
+
+bool ProgramFlow::is_referenced(std::string_view name) const {
+    return std::binary_search(references_.begin(), references_.end(), name);
+}
+
+bool has_flow_statement(const Block& b) {
+    for (const auto& st : b.statements)
+        switch (st.kind) {
+            case StmtKind::Goto:
+            case StmtKind::If:
+            case StmtKind::While:
+            case StmtKind::Do:
+            case StmtKind::End: return true;
+            default: break;
+        }
+    return false;
+}
+
+BlockEdges block_edges(const Block& b, uint32_t offset, uint32_t next, const ProgramFlow& flow) {
+    BlockEdges e;
+    for (const auto& st : b.statements) {
+        switch (st.kind) {
+            case StmtKind::Goto:
+                if (!st.name.empty()) e.jumps.push_back(st.name);
+                if (!b.block_delete) e.falls_through = false;
+                break;
+            case StmtKind::If:
+                if (!st.name.empty()) e.jumps.push_back(st.name);
+                break;
+            case StmtKind::While:
+                if (const LoopPair* p = flow.loop_at_head(offset)) {
+                    if (p->after_end < flow.end()) e.targets.push_back(p->after_end);
+                    else e.exits = true;  // the loop is the last thing in the program
+                }
+                break;
+            case StmtKind::End:
+                if (const LoopPair* p = flow.loop_at_end(offset)) {
+                    e.targets.push_back(p->head);
+                    // A WHILE loop exits at its head; a bare DO loop only through a jump.
+                    if (!b.block_delete || p->while_loop) e.falls_through = false;
+                }
+                break;
+            default: break;
+        }
+    }
+    if (ends_program(b)) {
+        e.exits = true;
+        if (!b.block_delete) e.falls_through = false;
+    }
+    if (e.falls_through && next >= flow.end()) e.exits = true;  // control falls off the last block
+    return e;
+}
+
+}  // namespace osplint

@@ -1,0 +1,157 @@
+#include "engine/positions.h"
+
+#include <algorithm>
+
+#include "syntax/source.h"
+
+namespace osplint {
+
+void Window::set(std::string_view t, uint32_t b, uint32_t line) {
+    text = t;
+    base = b;
+    first_line = line;
+    starts.clear();
+    starts.push_back(0);
+    for (size_t i = 0; i < t.size(); ++i) {
+        const char c = t[i];
+        if (c == '\n' || (c == '\r' && !(i + 1 < t.size() && t[i + 1] == '\n')))
+            starts.push_back(static_cast<uint32_t>(i + 1));
+    }
+}
+
+void Window::set_line(const LineRef& l) {
+    text = std::string_view(l.text.data(), l.text.size() + l.terminator.size());
+    base = l.start;
+    first_line = l.line;
+    starts.resize(l.terminator.empty() ? 1 : 2);
+    starts[0] = 0;
+    if (!l.terminator.empty()) starts[1] = static_cast<uint32_t>(text.size());
+}
+
+bool Window::has_line(uint32_t line) const {
+    return !empty() && line >= first_line && line - first_line < starts.size() &&
+           !(line - first_line == starts.size() - 1 && starts.back() == text.size() && starts.size() > 1);
+}
+
+Position Window::position(uint32_t offset) const {
+    const uint32_t rel = offset - base;
+    const auto it = std::upper_bound(starts.begin(), starts.end(), rel);
+    const size_t k = static_cast<size_t>(it - starts.begin()) - 1;
+    Position p;
+    p.line = first_line + static_cast<uint32_t>(k);
+    p.byte_col = rel - starts[k];
+    const ColumnCount c = count_columns(text.substr(starts[k], rel - starts[k]));
+    p.cp_col = c.cp;
+    p.utf16_col = c.utf16;
+    return p;
+}
+
+std::string_view Window::line_text(uint32_t line) const {
+    const size_t k = line - first_line;
+    const uint32_t b = starts[k];
+    uint32_t e = k + 1 < starts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
+    if (k + 1 < starts.size()) {
+        if (e - b >= 2 && text[e - 2] == '\r' && text[e - 1] == '\n') e -= 2;
+        else e -= 1;
+    }
+    return text.substr(b, e - b);
+}
+
+std::string_view Window::line_terminator(uint32_t line) const {
+    const size_t k = line - first_line;
+    const std::string_view t = line_text(line);
+    const uint32_t e = k + 1 < starts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
+    const size_t end_of_text = static_cast<size_t>(t.data() - text.data()) + t.size();
+    return text.substr(end_of_text, e - end_of_text);
+}
+
+Position Positions::position(uint32_t offset) {
+    if (size_ && offset > *size_) offset = static_cast<uint32_t>(*size_);
+    for (const Window* w : {&current, &held})
+        if (w->contains(offset)) return w->position(offset);
+    const LineData& f = find_offset(offset);
+    Position p;
+    p.line = f.line;
+    if (!f.ok) return p;
+    p.byte_col = offset - f.start;
+    const std::string_view line = f.text;
+    const std::string_view term = f.terminator;
+    ColumnCount c = count_columns(line.substr(0, std::min<size_t>(p.byte_col, line.size())));
+    if (p.byte_col > line.size()) {
+        const ColumnCount t = count_columns(term.substr(0, p.byte_col - line.size()));
+        c.cp += t.cp;
+        c.utf16 += t.utf16;
+    }
+    p.cp_col = c.cp;
+    p.utf16_col = c.utf16;
+    return p;
+}
+
+LineData Positions::line(uint32_t line) {
+    for (const Window* w : {&current, &held})
+        if (w->has_line(line)) {
+            LineData d;
+            d.ok = true;
+            d.line = line;
+            d.start = w->line_start(line);
+            d.text.assign(w->line_text(line));
+            d.terminator.assign(w->line_terminator(line));
+            return d;
+        }
+    return find_line(line);
+}
+
+std::string Positions::line_text(uint32_t n) {
+    for (const Window* w : {&current, &held})
+        if (w->has_line(n)) return std::string(w->line_text(n));
+    const LineData& d = find_line(n);
+    return d.ok ? d.text : std::string();
+}
+
+// Reads lines from the last checkpoint before the target until `stop` accepts one.
+template <class StartOk, class Stop>
+const LineData& Positions::scan(StartOk&& start_ok, Stop&& stop) {
+    // The checkpoints grow in offset and line: the last one `start_ok` accepts.
+    auto it = std::partition_point(checkpoints_.begin(), checkpoints_.end(), start_ok);
+    const Checkpoint cp = it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
+    LineStream ls(*src_, size_t(64) << 10);
+    ls.seek(cp.offset, cp.line);
+    LineRef l;
+    cache_ = LineData{};
+    uint32_t last = cp.line - 1;
+    bool terminated = true;
+    while (ls.next(l)) {
+        last = l.line;
+        terminated = !l.terminator.empty();
+        if (stop(l)) {
+            cache_.ok = true;
+            cache_.line = l.line;
+            cache_.start = l.start;
+            cache_.text.assign(l.text);
+            cache_.terminator.assign(l.terminator);
+            return cache_;
+        }
+    }
+    // Past the end: the empty line after a final terminator.
+    cache_.line = terminated ? last + 1 : std::max<uint32_t>(last, 1);
+    return cache_;
+}
+
+const LineData& Positions::find_offset(uint32_t offset) {
+    if (cache_.ok && offset >= cache_.start &&
+        (offset - cache_.start < cache_.text.size() + cache_.terminator.size() ||
+         (cache_.terminator.empty() && offset - cache_.start == cache_.text.size())))
+        return cache_;
+    return scan([&](const Checkpoint& c) { return c.offset <= offset; },
+                [&](const LineRef& l) {
+                    const uint64_t end = uint64_t(l.start) + l.text.size() + l.terminator.size();
+                    return offset < end || (l.terminator.empty() && offset == end);
+                });
+}
+
+const LineData& Positions::find_line(uint32_t n) {
+    if (cache_.ok && cache_.line == n) return cache_;
+    return scan([&](const Checkpoint& c) { return c.line <= n; }, [&](const LineRef& l) { return l.line == n; });
+}
+
+}  // namespace osplint

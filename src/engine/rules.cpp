@@ -1,0 +1,25 @@
+#include <algorithm>
+
+#include "engine/rule.h"
+#include "semantics/config.h"
+
+namespace osplint {
+
+bool rule_runs(const RuleMeta& meta, const Config& config, const std::vector<std::string>& only) {
+    if (!only.empty()) return std::find(only.begin(), only.end(), meta.id) != only.end();
+    return config.severity_of(meta.id, meta.severity, meta.enabled_by_default).has_value();
+}
+
+std::vector<std::unique_ptr<Rule>> select_rules(const RuleRegistry& registry, const Config& config,
+                                                const std::vector<std::string>& only) {
+    std::vector<std::unique_ptr<Rule>> out;
+    for (auto& r : registry.make_all())
+        if (rule_runs(r->meta(), config, only)) out.push_back(std::move(r));
+    return out;
+}
+
+bool rule_matches(std::string_view id, std::string_view pattern) {
+    return !pattern.empty() && id.substr(0, pattern.size()) == pattern;
+}
+
+}  // namespace osplint

@@ -1,0 +1,44 @@
+#include "lsp/document.h"
+
+#include "api/check.h"
+
+namespace osplint::lsp {
+namespace {
+
+class StopAt final : public BlockObserver {
+public:
+    explicit StopAt(uint32_t line) : line_(line) {}
+    bool block(const BlockView& view, const LineRef& line) override {
+        if (line.line < line_) return true;
+        if (line.line == line_) found = record_block(view, line);
+        return false;
+    }
+    std::optional<BlockRecord> found;
+
+private:
+    uint32_t line_;
+};
+
+// Discards what the walk reports (hover runs no rules; the directives'
+// findings still come).
+class Discard final : public DiagnosticSink {
+public:
+    void diagnostic(Diagnostic&&) override {}
+};
+
+}  // namespace
+
+std::optional<BlockRecord> block_at(const DocumentModel& doc, const Config& config, const ProgramNames* known,
+                                    uint32_t line) {
+    StopAt stop(line);
+    AnalysisOptions options;
+    options.known_programs = known;
+    options.observer = &stop;
+    options.run_rules = false;
+    MemorySource src(doc.source.text());
+    Discard sink;
+    check_source(doc.path, src, config, options, sink);
+    return std::move(stop.found);
+}
+
+}  // namespace osplint::lsp

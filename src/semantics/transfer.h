@@ -1,0 +1,57 @@
+// The transfer function: what one block does to the modal state, and which
+// macro or subprogram it runs. Shared by everything that needs modal state
+// (the engine's walk, `osplint trace`, the language server, the tests).
+#pragma once
+
+#include <optional>
+
+#include "semantics/calls.h"
+#include "semantics/config.h"
+#include "semantics/modal.h"
+#include "syntax/model.h"
+
+namespace osplint {
+
+class Catalog;
+
+// The state at the start of a program (from the configuration's machine
+// defaults); a subprogram starts with its caller's state, which is unknown.
+ModalState initial_state(const Config& config, bool subprogram);
+
+// Applies one block to the state.
+void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state);
+
+// Resolves the macro or subprogram a block invokes, with evaluated arguments.
+std::optional<MacroCall> resolve_call(const Block& block, const ModalState& before, const Catalog& catalog);
+
+// The state that flows from a block to its successors: `after` (apply_block's
+// result), merged with `before` when the block may be skipped (BLOCK SKIP on
+// a `/` block), and without the block's one-shot commands (NCYL, NOEX, G100).
+void flow_out(const Block& block, const ModalState& before, ModalState& after);
+
+// Whether a block ends its program where control reaches it (M02, M30, RTS).
+bool ends_program(const Block& block);
+
+// Plain moves. Most blocks of a CAM-posted program are `X.. Y.. Z..`, perhaps
+// with a sequence name, G0..G3 and F. A block is a plain move when its words
+// are only literal X, Y, Z, F and G0/G1/G2/G3 (no `=`, no expression), it has
+// no program name, block delete, statement or assignment, and it runs while
+// no fixed cycle and no MODIN is known to be modal (`plain_move_state`), and
+// no G0..G3 is registered as a macro code (`plain_moves_possible`). On such a
+// block resolve_call finds nothing, and apply_block only sets the motion mode,
+// the feed and the positions: `apply_plain_move` does just that, and the walk
+// calls only the rules that look at such blocks (Rule::sees_plain_moves).
+bool is_plain_move_block(const Block& block);
+inline bool plain_move_state(const ModalState& s) {
+    return s.cycle.known && !s.cycle.value && s.modin.known && !s.modin.value;
+}
+bool plain_moves_possible(const Catalog& catalog);
+// apply_block(block, nullptr, catalog, state) for a plain move in a plain-move state.
+void apply_plain_move(const Block& block, ModalState& state);
+
+// The value of a word in `state`: its literal, or its expression when it can be evaluated.
+std::optional<double> word_value(const Block& block, const Word& word, const ModalState& state);
+// Integer code of a G/M word when it is a plain literal (G00 -> 0, M52 -> 52).
+std::optional<int> code_of(const Word& word);
+
+}  // namespace osplint

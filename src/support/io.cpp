@@ -1,0 +1,222 @@
+#include "support/io.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace osplint {
+
+int64_t MemorySource::read(uint64_t offset, char* buf, size_t len) {
+    if (offset >= text_.size()) return 0;
+    const size_t n = std::min<uint64_t>(len, text_.size() - offset);
+    std::memcpy(buf, text_.data() + offset, n);
+    return static_cast<int64_t>(n);
+}
+
+int64_t pread_full(int fd, uint64_t offset, char* buf, size_t len) {
+    size_t done = 0;
+    while (done < len) {
+        const ssize_t r = ::pread(fd, buf + done, len - done, static_cast<off_t>(offset + done));
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            return -1;
+        }
+        if (r == 0) break;
+        done += static_cast<size_t>(r);
+    }
+    return static_cast<int64_t>(done);
+}
+
+int64_t FdSource::read(uint64_t offset, char* buf, size_t len) {
+    const int64_t r = pread_full(fd_, offset, buf, len);
+    if (r < 0) error_ = std::string("read error: ") + std::strerror(errno);
+    return r;
+}
+
+SpoolSource::SpoolSource(int fd, uint64_t limit) : in_(fd), limit_(limit) {
+    spool_ = std::tmpfile();
+    if (spool_) spool_fd_ = fileno(spool_);
+    else error_ = std::string("cannot create a temporary file: ") + std::strerror(errno);
+}
+
+SpoolSource::~SpoolSource() {
+    if (spool_) std::fclose(spool_);
+}
+
+int64_t SpoolSource::read(uint64_t offset, char* buf, size_t len) {
+    if (!spool_) return -1;
+    while (offset + len > spooled_ && !in_eof_)
+        if (!pull()) return -1;
+    if (offset >= spooled_) return 0;
+    const int64_t r = pread_full(spool_fd_, offset, buf, std::min<uint64_t>(len, spooled_ - offset));
+    if (r < 0) error_ = std::string("cannot read the temporary copy of the input: ") + std::strerror(errno);
+    return r;
+}
+
+bool SpoolSource::pull() {
+    if (chunk_.empty()) chunk_.resize(size_t(1) << 20);
+    ssize_t r;
+    do {
+        r = ::read(in_, chunk_.data(), chunk_.size());
+    } while (r < 0 && errno == EINTR);
+    if (r < 0) {
+        error_ = std::string("read error: ") + std::strerror(errno);
+        return false;
+    }
+    if (r == 0) {
+        in_eof_ = true;
+        return true;
+    }
+    if (spooled_ + static_cast<uint64_t>(r) > limit_) {
+        error_ = kTooLargeMessage;
+        return false;
+    }
+    size_t done = 0;
+    while (done < static_cast<size_t>(r)) {
+        const ssize_t w = ::pwrite(spool_fd_, chunk_.data() + done, static_cast<size_t>(r) - done,
+                                   static_cast<off_t>(spooled_ + done));
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            error_ = std::string("cannot write the temporary copy of the input: ") + std::strerror(errno);
+            return false;
+        }
+        done += static_cast<size_t>(w);
+    }
+    spooled_ += static_cast<uint64_t>(r);
+    return true;
+}
+
+int spool_to_temporary_file(int fd, std::string& error, uint64_t limit) {
+    FILE* f = std::tmpfile();
+    if (!f) {
+        error = std::string("cannot create a temporary file: ") + std::strerror(errno);
+        return -1;
+    }
+    const int out = ::dup(fileno(f));
+    std::fclose(f);  // the duplicate keeps the unlinked file open
+    if (out < 0) {
+        error = std::string("cannot create a temporary file: ") + std::strerror(errno);
+        return -1;
+    }
+    std::vector<char> buf(size_t(1) << 20);
+    uint64_t total = 0;
+    while (true) {
+        const ssize_t r = ::read(fd, buf.data(), buf.size());
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            error = std::string("read error: ") + std::strerror(errno);
+            ::close(out);
+            return -1;
+        }
+        if (r == 0) break;
+        total += static_cast<uint64_t>(r);
+        if (total > limit) {
+            error = kTooLargeMessage;
+            ::close(out);
+            return -1;
+        }
+        for (ssize_t done = 0; done < r;) {
+            const ssize_t w = ::write(out, buf.data() + done, static_cast<size_t>(r - done));
+            if (w < 0) {
+                if (errno == EINTR) continue;
+                error = std::string("cannot write a temporary file: ") + std::strerror(errno);
+                ::close(out);
+                return -1;
+            }
+            done += w;
+        }
+    }
+    ::lseek(out, 0, SEEK_SET);
+    return out;
+}
+
+const char* find_line_break(const char* p, const char* e) {
+#if defined(__SSE2__)
+    const __m128i lf = _mm_set1_epi8('\n');
+    const __m128i cr = _mm_set1_epi8('\r');
+    for (; e - p >= 16; p += 16) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+        const int hits = _mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(v, lf), _mm_cmpeq_epi8(v, cr)));
+        if (hits) return p + __builtin_ctz(static_cast<unsigned>(hits));
+    }
+#endif
+    for (; p < e; ++p)
+        if (*p == '\n' || *p == '\r') return p;
+    return nullptr;
+}
+
+void LineStream::seek(uint64_t offset, uint32_t line) {
+    line_ = line;
+    if (offset >= buf_offset_ && offset <= buf_offset_ + end_) {  // still in the buffer
+        pos_ = static_cast<size_t>(offset - buf_offset_);
+        return;
+    }
+    buf_offset_ = offset;
+    pos_ = end_ = 0;
+    eof_ = false;
+}
+
+bool LineStream::next(LineRef& out) {
+    while (true) {
+        const char* p = buf_.data() + pos_;
+        const size_t avail = end_ - pos_;
+        const char* brk = find_line_break(p, p + avail);
+        size_t text_len = 0, term_len = 0;
+        bool found = false;
+        if (brk && *brk == '\r') {
+            text_len = static_cast<size_t>(brk - p);
+            if (text_len + 1 < avail) {
+                term_len = p[text_len + 1] == '\n' ? 2 : 1;
+                found = true;
+            } else if (eof_) {
+                term_len = 1;
+                found = true;
+            }
+        } else if (brk) {
+            text_len = static_cast<size_t>(brk - p);
+            term_len = 1;
+            found = true;
+        } else if (eof_) {
+            if (avail == 0) return false;
+            text_len = avail;
+            found = true;
+        }
+        if (found) {
+            out.text = std::string_view(p, text_len);
+            out.terminator = std::string_view(p + text_len, term_len);
+            out.line = line_++;
+            out.start = static_cast<uint32_t>(buf_offset_ + pos_);
+            start64_ = buf_offset_ + pos_;
+            pos_ += text_len + term_len;
+            return true;
+        }
+        if (!fill()) return false;
+    }
+}
+
+bool LineStream::fill() {
+    if (pos_ > 0) {
+        std::memmove(buf_.data(), buf_.data() + pos_, end_ - pos_);
+        end_ -= pos_;
+        buf_offset_ += pos_;
+        pos_ = 0;
+    }
+    if (buf_.size() < chunk_) buf_.resize(chunk_);
+    if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // a line longer than the buffer
+    const int64_t r = src_->read(buf_offset_ + end_, buf_.data() + end_, buf_.size() - end_);
+    if (r < 0) {
+        error_ = true;
+        return false;
+    }
+    if (r == 0) eof_ = true;
+    end_ += static_cast<size_t>(r);
+    return true;
+}
+
+}  // namespace osplint

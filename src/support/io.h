@@ -1,0 +1,140 @@
+// Reading input: random access to a file's bytes and the lines of them.
+//
+// Every entry point reads a program through a ByteSource: a buffer in memory
+// (the library's check_text, the language server's open documents), a
+// regular file read with pread, or a pipe copied to an unlinked temporary
+// file as it is read (standard input). A program is never held whole: lines
+// are read in chunks by a LineStream, and read again from their offset when
+// the analysis needs them a second time (a loop body, a finding's line).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace osplint {
+
+// The largest input osplint checks: byte offsets are 32-bit.
+inline constexpr uint64_t kMaxInputSize = 0xFFFFFFF0ull;
+inline constexpr const char* kTooLargeMessage = "file too large (osplint checks files up to 4 GiB)";
+
+// One line of a file: its text without the terminator, the terminator itself
+// ("\n", "\r\n", "\r" or "" for an unterminated last line), its 1-based number
+// and the byte offset where it starts.
+struct LineRef {
+    std::string_view text;
+    std::string_view terminator;
+    uint32_t line = 1;
+    uint32_t start = 0;
+    uint32_t end() const { return start + static_cast<uint32_t>(text.size() + terminator.size()); }
+};
+
+class ByteSource {
+public:
+    virtual ~ByteSource() = default;
+    // Reads up to `len` bytes at `offset`: the count, 0 at the end, -1 on error.
+    virtual int64_t read(uint64_t offset, char* buf, size_t len) = 0;
+    // The size when it is known before reading to the end.
+    virtual std::optional<uint64_t> size() const { return std::nullopt; }
+    // Why the last read failed.
+    virtual std::string error() const { return "read error"; }
+};
+
+class MemorySource final : public ByteSource {
+public:
+    explicit MemorySource(std::string_view text) : text_(text) {}
+    int64_t read(uint64_t offset, char* buf, size_t len) override;
+    std::optional<uint64_t> size() const override { return text_.size(); }
+    std::string_view text() const { return text_; }
+
+private:
+    std::string_view text_;
+};
+
+// Reads `len` bytes at `offset` of a descriptor with pread, retrying short
+// reads: the count (short only at the end), or -1 with errno set.
+int64_t pread_full(int fd, uint64_t offset, char* buf, size_t len);
+
+// A regular file (or anything pread works on). The descriptor is not owned.
+class FdSource final : public ByteSource {
+public:
+    FdSource(int fd, std::optional<uint64_t> size) : fd_(fd), size_(size) {}
+    int64_t read(uint64_t offset, char* buf, size_t len) override;
+    std::optional<uint64_t> size() const override { return size_; }
+    std::string error() const override { return error_; }
+
+private:
+    int fd_;
+    std::optional<uint64_t> size_;
+    std::string error_ = "read error";
+};
+
+// A pipe or terminal: what is read from it is appended to an unlinked
+// temporary file, from which every read is served, so that lines can be read
+// again. At most `limit` bytes are taken.
+class SpoolSource final : public ByteSource {
+public:
+    explicit SpoolSource(int fd, uint64_t limit = kMaxInputSize);
+    ~SpoolSource() override;
+    SpoolSource(const SpoolSource&) = delete;
+    SpoolSource& operator=(const SpoolSource&) = delete;
+    bool ok() const { return spool_ != nullptr; }
+    int64_t read(uint64_t offset, char* buf, size_t len) override;
+    std::string error() const override { return error_; }
+
+private:
+    bool pull();
+    int in_;
+    uint64_t limit_;
+    FILE* spool_ = nullptr;
+    int spool_fd_ = -1;
+    uint64_t spooled_ = 0;
+    bool in_eof_ = false;
+    std::string error_;
+    std::vector<char> chunk_;
+};
+
+// Copies everything readable from `fd` (at most `limit` bytes) to an unlinked
+// temporary file and returns a descriptor of it positioned at its start; -1
+// with `error` set on failure. For standard input read by several passes.
+int spool_to_temporary_file(int fd, std::string& error, uint64_t limit = kMaxInputSize);
+
+// The first LF or CR in [p, e), or nullptr.
+const char* find_line_break(const char* p, const char* e);
+
+// Lines of a ByteSource (terminators LF, CRLF and a lone CR). A LineRef stays
+// valid until the next call of next() or seek().
+class LineStream {
+public:
+    LineStream(ByteSource& src, size_t chunk) : src_(&src), chunk_(chunk ? chunk : 1) {}
+
+    // Continues at `offset`, numbering that line `line`.
+    void seek(uint64_t offset, uint32_t line);
+    // The next line; false at the end of the input or on a read error.
+    bool next(LineRef& out);
+    bool error() const { return error_; }
+    // Offset (64-bit) of the line next() returned last.
+    uint64_t last_start() const { return start64_; }
+    // Offset and number of the line next() will return.
+    uint64_t next_offset() const { return buf_offset_ + pos_; }
+    uint32_t next_line() const { return line_; }
+
+private:
+    bool fill();
+
+    ByteSource* src_;
+    size_t chunk_;
+    std::vector<char> buf_;
+    size_t pos_ = 0, end_ = 0;
+    uint64_t buf_offset_ = 0;
+    uint64_t start64_ = 0;
+    bool eof_ = false;
+    bool error_ = false;
+    uint32_t line_ = 1;
+};
+
+}  // namespace osplint

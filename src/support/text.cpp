@@ -1,0 +1,51 @@
+#include "support/text.h"
+
+namespace osplint {
+
+std::string upper(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = ascii_upper(c);
+    return out;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (ascii_upper(a[i]) != ascii_upper(b[i])) return false;
+    return true;
+}
+
+std::string_view trim_blanks(std::string_view s) {
+    size_t b = 0, e = s.size();
+    while (b < e && is_blank(s[b])) ++b;
+    while (e > b && is_blank(s[e - 1])) --e;
+    return s.substr(b, e - b);
+}
+
+std::string file_extension(std::string_view path) {
+    const size_t slash = path.find_last_of("/\\");
+    const size_t dot = path.rfind('.');
+    if (dot == std::string_view::npos || (slash != std::string_view::npos && dot < slash)) return {};
+    return upper(path.substr(dot + 1));
+}
+
+bool is_program_file(std::string_view path) {
+    const std::string e = file_extension(path);
+    return e == "MIN" || e == "SSB" || e == "SUB" || e == "SDF" || e == "LIB" || e == "NC" || e == "MSB";
+}
+
+bool is_subprogram_file(std::string_view path) {
+    const std::string e = file_extension(path);
+    return e == "SSB" || e == "SUB" || e == "LIB" || e == "MSB";
+}
+
+bool is_schedule_file(std::string_view path) { return file_extension(path) == "SDF"; }
+
+std::string abbreviate(std::string_view s, size_t max) {
+    if (s.size() <= max) return std::string(s);
+    size_t cut = max > 3 ? max - 3 : 0;
+    while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
+    return std::string(s.substr(0, cut)) + "...";
+}
+
+}  // namespace osplint

@@ -1,0 +1,38 @@
+// Small text helpers shared by every layer (ASCII case, blanks), and the kinds
+// of program files by extension.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace osplint {
+
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
+inline char ascii_upper(char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; }
+inline char ascii_lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// ASCII upper case of `s` (bytes outside a-z unchanged).
+std::string upper(std::string_view s);
+// Equal ignoring ASCII case.
+bool iequals(std::string_view a, std::string_view b);
+// `s` without leading and trailing blanks (space, tab, form feed, vertical tab).
+std::string_view trim_blanks(std::string_view s);
+
+// The extension of the last component of a path, upper case, without the dot
+// ("PART.min" -> "MIN"; "" when there is none).
+std::string file_extension(std::string_view path);
+
+// Program files osplint checks: .MIN .SSB .SUB .SDF .LIB .NC .MSB, any case.
+bool is_program_file(std::string_view path);
+// Files that hold subprograms only (.SSB .SUB .LIB .MSB, any case): each of
+// their programs starts with the caller's state, which is unknown, and the
+// control searches them for the CALL targets of a main program.
+bool is_subprogram_file(std::string_view path);
+// Schedule programs (.SDF).
+bool is_schedule_file(std::string_view path);
+
+// A string cut to at most `max` bytes for a message, with "..." when cut (never
+// inside a UTF-8 sequence).
+std::string abbreviate(std::string_view s, size_t max);
+
+}  // namespace osplint

@@ -1,0 +1,277 @@
+#include "syntax/outline.h"
+
+#include <algorithm>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "syntax/directive.h"
+#include "syntax/frontend_fast.h"
+
+namespace osplint {
+namespace {
+
+inline bool is_break(char c) { return c == '\n' || c == '\r'; }
+
+// A candidate found by next_candidate, and the line ends before it.
+struct Scan {
+    const char* candidate = nullptr;  // nullptr: none in the range
+    uint32_t line_ends = 0;           // line ends in [p, candidate) (or in [p, e))
+};
+
+// The first byte of [p, e) that may belong to an outlined item (see the
+// header), and the number of lines that end before it. p starts a line when
+// `line_start`. Bytes 16 at a time: a letter folded to lower case by OR 0x20
+// equals 'o', 'e', 't' or 'w'; an 'f' right after an 'i'; an 'n' not right
+// after a line break. No other byte maps to a lower-case letter under OR 0x20.
+// A line ends at an LF, or at a CR that no LF follows.
+Scan next_candidate(const char* p, const char* e, bool line_start) {
+    Scan out;
+    unsigned after_break = line_start ? 1u : 0u;
+    unsigned after_i = 0;
+#if defined(__SSE2__)
+    const __m128i fold = _mm_set1_epi8(0x20);
+    const __m128i o = _mm_set1_epi8('o'), le = _mm_set1_epi8('e'), t = _mm_set1_epi8('t'), w = _mm_set1_epi8('w');
+    const __m128i n = _mm_set1_epi8('n'), i = _mm_set1_epi8('i'), f = _mm_set1_epi8('f');
+    const __m128i lf = _mm_set1_epi8('\n'), cr = _mm_set1_epi8('\r');
+    for (; e - p >= 16; p += 16) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+        const __m128i l = _mm_or_si128(v, fold);
+        const __m128i oetw = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(l, o), _mm_cmpeq_epi8(l, le)),
+                                          _mm_or_si128(_mm_cmpeq_epi8(l, t), _mm_cmpeq_epi8(l, w)));
+        const unsigned m = static_cast<unsigned>(_mm_movemask_epi8(oetw));
+        const unsigned nm = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, n)));
+        const unsigned im = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, i)));
+        const unsigned lfm = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, lf)));
+        const unsigned crm = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, cr)));
+        const unsigned brk = lfm | crm;
+        unsigned ends = lfm | (crm & ~(lfm >> 1));
+        if ((crm & 0x8000u) && e - p > 16 && p[16] == '\n') ends &= 0x7FFFu;  // a CRLF across the boundary
+        unsigned cand = m | (nm & ~((brk << 1) | after_break));
+        if (im | after_i) {
+            const unsigned fm = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, f)));
+            cand |= fm & ((im << 1) | after_i);
+        }
+        cand &= 0xFFFFu;
+        if (cand) {
+            const unsigned k = static_cast<unsigned>(__builtin_ctz(cand));
+            out.candidate = p + k;
+            out.line_ends += static_cast<uint32_t>(__builtin_popcount(ends & ((1u << k) - 1u)));
+            return out;
+        }
+        out.line_ends += static_cast<uint32_t>(__builtin_popcount(ends));
+        after_break = (brk >> 15) & 1u;
+        after_i = (im >> 15) & 1u;
+    }
+#endif
+    for (; p < e; ++p) {
+        const char l = static_cast<char>(*p | 0x20);
+        if (l == 'o' || l == 'e' || l == 't' || l == 'w' || (l == 'n' && !after_break) || (l == 'f' && after_i)) {
+            out.candidate = p;
+            return out;
+        }
+        if (*p == '\n' || (*p == '\r' && !(p + 1 < e && p[1] == '\n'))) ++out.line_ends;
+        after_break = is_break(*p) ? 1u : 0u;
+        after_i = l == 'i' ? 1u : 0u;
+    }
+    return out;
+}
+
+bool is_flow(StmtKind k) {
+    return k == StmtKind::Goto || k == StmtKind::If || k == StmtKind::While || k == StmtKind::Do ||
+           k == StmtKind::End;
+}
+
+class Outliner {
+public:
+    Outliner(ByteSource& src, const OutlineOptions& options) : src_(src), options_(options) {}
+
+    FileOutline run() {
+        while (true) {
+            if (pos_ >= complete_) {
+                if (eof_) break;
+                if (!refill()) break;
+                continue;
+            }
+            if (!first_found_ || !pending_.empty()) {
+                take_line();
+                continue;
+            }
+            const Scan scan = next_candidate(buf_.data() + pos_, buf_.data() + complete_, true);
+            line_ += scan.line_ends;
+            if (!scan.candidate) {
+                pos_ = complete_;
+                continue;
+            }
+            const char* ls = scan.candidate;
+            while (ls > buf_.data() + pos_ && !is_break(ls[-1])) --ls;
+            pos_ = static_cast<size_t>(ls - buf_.data());
+            take_line();
+        }
+        for (auto& p : out_.programs) {
+            std::sort(p.references.begin(), p.references.end());
+            p.references.erase(std::unique(p.references.begin(), p.references.end()), p.references.end());
+        }
+        out_.size = base_ + end_;
+        // Every line end ends a block; so does the end of an unterminated last line.
+        out_.lines = line_ - 1 + (out_.size > 0 && !is_break(last_byte_) ? 1 : 0);
+        return std::move(out_);
+    }
+
+private:
+    // Reads more input behind what is left; sets complete_ to the end of the
+    // last whole line in the buffer.
+    bool refill() {
+        if (pos_ > 0) {
+            std::memmove(buf_.data(), buf_.data() + pos_, end_ - pos_);
+            end_ -= pos_;
+            base_ += pos_;
+            complete_ = complete_ > pos_ ? complete_ - pos_ : 0;
+            pos_ = 0;
+        }
+        const size_t chunk = std::max<size_t>(options_.chunk_size, 16);
+        if (buf_.size() < chunk) buf_.resize(chunk);
+        if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // a line longer than the buffer
+        const int64_t r = src_.read(base_ + end_, buf_.data() + end_, buf_.size() - end_);
+        if (r < 0) {
+            out_.error = src_.error();
+            return false;
+        }
+        if (r == 0) eof_ = true;
+        end_ += static_cast<size_t>(r);
+        if (r > 0) last_byte_ = buf_[end_ - 1];
+        if (base_ + end_ > kMaxInputSize) {
+            out_.error = kTooLargeMessage;
+            return false;
+        }
+        if (eof_) {
+            complete_ = end_;
+            return true;
+        }
+        // The last line break that surely ends a line (a CR at the very end may
+        // be the first half of a CRLF).
+        size_t k = end_;
+        while (k > pos_) {
+            const char c = buf_[k - 1];
+            if (c == '\n' || (c == '\r' && k < end_)) break;
+            --k;
+        }
+        complete_ = k;
+        return true;
+    }
+
+    // Parses the line at pos_ exactly and takes what the outline needs of it.
+    void take_line() {
+        const char* p = buf_.data() + pos_;
+        const char* e = buf_.data() + complete_;
+        const char* brk = find_line_break(p, e);
+        size_t text = brk ? static_cast<size_t>(brk - p) : static_cast<size_t>(e - p);
+        size_t term = 0;
+        if (brk) term = (*brk == '\r' && brk + 1 < buf_.data() + end_ && brk[1] == '\n') ? 2 : 1;
+        LineRef line{std::string_view(p, text), std::string_view(p + text, term), line_,
+                     static_cast<uint32_t>(base_ + pos_)};
+        pos_ += text + term;
+        if (term) ++line_;
+        ++out_.lines_parsed;
+        parser_.parse(line, block_);
+        take(block_, line);
+    }
+
+    void take(const Block& b, const LineRef& line) {
+        if (out_.programs.empty()) out_.programs.emplace_back();  // the file's first line (line 1, offset 0)
+        if (!first_found_) {
+            if (b.program_name || (b.kind == LineKind::Block && !b.is_empty())) {
+                first_found_ = true;
+                first_offset_ = line.start;
+                ProgramOutline& p = out_.programs.front();
+                p.has_content = true;
+                if (b.program_name) {
+                    p.name = b.program_name->name;
+                    p.name_range = b.program_name->range;
+                }
+            }
+        } else if (b.program_name && line.start != first_offset_) {
+            ProgramOutline p;
+            p.line = line.line;
+            p.offset = line.start;
+            p.name = b.program_name->name;
+            p.name_range = b.program_name->range;
+            p.has_content = true;
+            out_.programs.push_back(std::move(p));
+        }
+        if (options_.names_only) return;
+        ProgramOutline& p = out_.programs.back();
+        FlowSite site;
+        for (const auto& st : b.statements) {
+            if (st.kind == StmtKind::Rts) p.has_rts = true;
+            if (!is_flow(st.kind)) continue;
+            site.statements.push_back({st.kind, st.name, st.loop});
+            if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty())
+                p.references.push_back(st.name);
+        }
+        for (const auto& w : b.words)
+            if (w.address == "N" && !w.value_text.empty()) p.references.push_back("N" + w.value_text);
+        if (!site.statements.empty()) {
+            site.line = line.line;
+            site.offset = line.start;
+            site.next = line.end();
+            site.block_delete = b.block_delete;
+            p.flow.push_back(std::move(site));
+        }
+        const bool target = suppression_target(b);
+        if (target) {
+            for (size_t k : pending_) {
+                out_.directives[k].target = line.start;
+                out_.directives[k].target_line = line.line;
+            }
+            pending_.clear();
+        }
+        if (!b.comments.empty() && has_directive(b, line.text)) {
+            DirectiveSite d;
+            d.line = line.line;
+            d.offset = line.start;
+            d.text.assign(line.text);
+            for (const auto& c : b.comments) d.comments.push_back(c.range);
+            d.program = out_.programs.size() - 1;
+            if (target) {
+                d.target = line.start;
+                d.target_line = line.line;
+            } else {
+                pending_.push_back(out_.directives.size());
+            }
+            out_.directives.push_back(std::move(d));
+        }
+    }
+
+    ByteSource& src_;
+    const OutlineOptions& options_;
+    FileOutline out_;
+    FastLineParser parser_;
+    Block block_;
+    std::vector<char> buf_;
+    uint64_t base_ = 0;   // offset of buf_[0]
+    size_t pos_ = 0;      // next line start
+    size_t end_ = 0;      // bytes in buf_
+    size_t complete_ = 0; // end of the last whole line in buf_
+    bool eof_ = false;
+    uint32_t line_ = 1;   // number of the line at pos_
+    char last_byte_ = '\n';
+    bool first_found_ = false;
+    uint32_t first_offset_ = 0;
+    std::vector<size_t> pending_;  // directives waiting for their target block
+};
+
+}  // namespace
+
+bool may_hold_outline_item(const char* p, const char* e, bool line_start) {
+    return next_candidate(p, e, line_start).candidate != nullptr;
+}
+
+FileOutline outline_file(ByteSource& src, const OutlineOptions& options) {
+    Outliner o(src, options);
+    return o.run();
+}
+
+}  // namespace osplint

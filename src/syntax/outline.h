@@ -1,0 +1,101 @@
+// The outline of a file: what its control flow and its program boundaries
+// are made of, found without analysing every block.
+//
+// The analysis engine needs to know, before it walks a program, where the
+// program starts and ends, whether it is a subprogram (an RTS anywhere in it
+// makes it one), which blocks jump or loop, which sequence names are jumped to,
+// and which comments are suppression directives. Those blocks are rare in
+// posted programs, and each of them holds one of a few letters: GOTO, DO, RTS
+// and program names an O or a T, END and WHILE an E or a W, IF the pair I F, a
+// sequence-name reference (`G85 N0207`) an N that does not start its line,
+// a directive `osplint:` an O. `outline_file` reads the input in chunks,
+// looks for those bytes sixteen at a time, and parses only the lines that hold
+// one, with the same front end as the analysis (so nothing is decided twice).
+// The lines before the file's first block with content are parsed one by one
+// (they decide the first program's name), and so are the lines that follow a
+// directive on a comment-only line, up to the block it applies to.
+//
+// Positions in the outline are line numbers and the byte offsets of line
+// starts (the scan counts line breaks as it looks for candidates).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "support/io.h"
+#include "syntax/model.h"
+
+namespace osplint {
+
+// A statement that changes the control flow: GOTO, IF, WHILE, DO or END.
+struct FlowStatement {
+    StmtKind kind = StmtKind::Goto;
+    std::string name;  // jump target (GOTO, IF)
+    int loop = -1;     // loop number (WHILE, DO, END)
+    friend bool operator==(const FlowStatement&, const FlowStatement&) = default;
+};
+
+// A block holding flow statements.
+struct FlowSite {
+    uint32_t line = 0;    // 1-based
+    uint32_t offset = 0;  // start of its line
+    uint32_t next = 0;    // start of the next line (the end of the input for the last one)
+    bool block_delete = false;
+    std::vector<FlowStatement> statements;  // in the order written
+    friend bool operator==(const FlowSite&, const FlowSite&) = default;
+};
+
+struct ProgramOutline {
+    uint32_t line = 1;     // its first line
+    uint32_t offset = 0;   // start of its first line
+    std::string name;      // "OTEST"; empty when the file starts without a name
+    ByteRange name_range;
+    bool has_rts = false;      // an RTS anywhere in it
+    bool has_content = false;  // a block with something the control executes
+    std::vector<FlowSite> flow;             // in line order
+    std::vector<std::string> references;    // sequence names jumped to or referenced by an N word; sorted, unique
+};
+
+// A line holding `osplint:` directive comments.
+struct DirectiveSite {
+    uint32_t line = 0;    // 1-based
+    uint32_t offset = 0;  // start of the line
+    std::string text;     // the line without its terminator
+    std::vector<ByteRange> comments;  // every comment of the line (absolute offsets)
+    size_t program = 0;   // index into FileOutline::programs
+    // Start of the line a `disable` applies to: this one when the block has
+    // content, else the next block with content (none at the end of the file).
+    std::optional<uint32_t> target;
+    uint32_t target_line = 0;  // its line number (0: none)
+};
+
+struct FileOutline {
+    std::vector<ProgramOutline> programs;  // none for an empty input, else at least one
+    std::vector<DirectiveSite> directives;
+    uint64_t size = 0;         // bytes read
+    uint32_t lines = 0;        // blocks (lines) in the input
+    uint64_t lines_parsed = 0; // lines handed to the front end (for tests and benchmarks)
+    std::string error;         // set when the input could not be read (or is too large)
+    bool ok() const { return error.empty(); }
+    // Where program `i` ends (the next one's start, or the end of the input).
+    uint64_t program_end(size_t i) const { return i + 1 < programs.size() ? programs[i + 1].offset : size; }
+};
+
+struct OutlineOptions {
+    size_t chunk_size = size_t(1) << 20;
+    // Only the program names are wanted (a sibling file's names for CALL
+    // targets): flow sites and directives are left out.
+    bool names_only = false;
+};
+
+// Outlines what `src` holds. Never throws for bad input; `error` is set when
+// the input cannot be read.
+FileOutline outline_file(ByteSource& src, const OutlineOptions& options = {});
+
+// Whether the bytes [p, e) hold one of the bytes an outlined line must hold
+// (see above). `line_start` says p starts a line. Exposed for tests.
+bool may_hold_outline_item(const char* p, const char* e, bool line_start);
+
+}  // namespace osplint

@@ -1,0 +1,437 @@
+// Differential tests of the analysis engine (engine/engine.h) against the
+// reference analysis (reference.h): the whole file parsed by tree-sitter, a
+// plain worklist fixpoint with every block's state kept, every rule on every
+// block.
+//
+//   * every corpus and example program, the grammar's corpus inputs,
+//     generated programs (several programs, jumps, loops, RTS, N references,
+//     directives, error lines, every line end) and randomly mutated ones: the
+//     same findings, every field (dump_result), whatever the chunk size the
+//     input is read with and whether loops are held in memory or read again;
+//   * the outline the engine reads fast equals the outline of the full parse;
+//   * what the walk keeps and does (EngineStats) on the shapes that need it.
+//
+// No difference is tolerated.
+#include <doctest/doctest.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "api/check.h"
+#include "api/config.h"
+#include "engine/record.h"
+#include "programs.h"
+#include "reference.h"
+#include "semantics/transfer.h"
+#include "syntax/frontend.h"
+#include "syntax/frontend_fast.h"
+#include "syntax/outline.h"
+
+using namespace osplint;
+using namespace osplint::testing;
+
+namespace {
+
+Config config_for(const fs::path& file) {
+    fs::path dir = file.parent_path();
+    if (dir.empty()) dir = ".";
+    if (auto f = find_config(dir)) return load_config(*f);
+    return Config{};
+}
+
+// The outline read fast must be the outline of the full parse.
+void compare_outlines(const std::string& name, const std::string& text) {
+    MemorySource src(text);
+    const std::string got = dump_outline(outline_file(src));
+    const std::string expected = dump_outline(reference_outline(parse_program_file(name, text)));
+    if (got != expected) FAIL_CHECK(name << ": outlines differ\n-- reference:\n" << expected << "-- engine:\n" << got);
+    for (size_t chunk : {size_t(1), size_t(7), size_t(64)}) {
+        MemorySource again(text);
+        OutlineOptions o;
+        o.chunk_size = chunk;
+        if (dump_outline(outline_file(again, o)) != got) FAIL_CHECK(name << ": outline differs with chunk " << chunk);
+    }
+}
+
+// The engine and the reference, with several chunk sizes and with loops held
+// in memory or read again; every field of the results must agree.
+void compare_checks(const std::string& name, const std::string& text, const Config& config,
+                    const AnalysisOptions& base = {}, EngineStats* stats = nullptr) {
+    compare_outlines(name, text);
+    const std::string expected = dump_result(reference_check(name, text, config, base));
+    struct Variant {
+        size_t chunk;
+        size_t held;
+    };
+    for (Variant v : {Variant{size_t(1) << 20, 8192}, Variant{1, 8192}, Variant{7, 0}, Variant{4096, 2},
+                      Variant{size_t(1) << 20, 0}}) {
+        EngineStats st;
+        AnalysisOptions options = base;
+        options.chunk_size = v.chunk;
+        options.held_loop_blocks = v.held;
+        options.stats = &st;
+        const std::string got = dump_result(check_text(name, text, config, options));
+        if (got != expected) {
+            FAIL_CHECK(name << " (chunk " << v.chunk << ", held " << v.held << ") differs\n-- reference:\n"
+                            << expected << "-- engine:\n"
+                            << got);
+            return;
+        }
+        CHECK_MESSAGE(st.label_misses == 0, name);
+        if (stats && v.chunk == (size_t(1) << 20) && v.held == 8192) *stats = st;
+    }
+}
+
+}  // namespace
+
+TEST_CASE("engine: corpus, examples and fixtures give the reference's result") {
+    const auto files = corpus_files();
+    REQUIRE(files.size() > 50);
+    std::map<std::string, int> fixes;
+    for (const auto& f : files) {
+        const Config config = config_for(f);
+        const std::string text = read_all(f);
+        compare_checks(f.string(), text, config);
+        for (const auto& d : check_text(f.string(), text, config).diagnostics)
+            if (!d.fixes.empty()) ++fixes[d.rule];
+        // With the program names of the directory, as the CLI passes them.
+        ProgramNames names;
+        for (const auto& e : fs::directory_iterator(f.parent_path()))
+            if (e.is_regular_file() && is_program_path(e.path())) add_program_names(e.path(), names);
+        AnalysisOptions options;
+        options.known_programs = &names;
+        compare_checks(f.string(), text, config, options);
+    }
+    // The rules that read source text for their fixes had findings.
+    for (const char* id : {"OSP104", "OSP207"}) CHECK_MESSAGE(fixes[id] > 0, id);
+}
+
+TEST_CASE("engine: the grammar corpus inputs") {
+    for (const auto& input : grammar_inputs()) compare_checks("corpus.min", input, Config{});
+}
+
+TEST_CASE("engine: a fix on the last line, without a line end") {
+    for (const char* text : {"O1\r\nG0 X1. M843", "O1\nS500 M843\r\nM30", "O1\nS500 M843"})
+        compare_checks("fix.min", text, Config{});
+}
+
+TEST_CASE("engine: files, descriptors and pipes") {
+    const fs::path file = fs::path(OSPLINT_SOURCE_DIR) / "examples" / "KEYWAY.MIN";
+    const Config config = config_for(file);
+    const std::string text = read_all(file);
+    const std::string expected = dump_result(check_text(file.string(), text, config));
+    CHECK(dump_result(check_file(file.string(), config)) == expected);
+
+    auto from_fd = [&](int fd) {
+        ResultCollector collect;
+        check_fd(fd, file.string(), config, {}, collect);
+        return collect.take();
+    };
+    int fds[2];
+    REQUIRE(::pipe(fds) == 0);
+    REQUIRE(::write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size()));
+    ::close(fds[1]);
+    CHECK(dump_result(from_fd(fds[0])) == expected);
+    ::close(fds[0]);
+
+    REQUIRE(::pipe(fds) == 0);
+    REQUIRE(::write(fds[1], text.data(), text.size()) == static_cast<ssize_t>(text.size()));
+    ::close(fds[1]);
+    std::string error;
+    const int spooled = spool_to_temporary_file(fds[0], error);
+    ::close(fds[0]);
+    REQUIRE(spooled >= 0);
+    ProgramNames names;
+    FdSource spool(spooled, std::nullopt);
+    CHECK(add_program_names(spool, names));
+    CHECK(names == ProgramNames{"O6010"});
+    CHECK(dump_result(from_fd(spooled)) == expected);
+    ::close(spooled);
+
+    CHECK(check_file("/nonexistent/NOPE.MIN", config).io_error == "no such file");
+    CHECK(check_file(OSPLINT_SOURCE_DIR, config).io_error == "is a directory");
+}
+
+TEST_CASE("engine: program boundaries, subprograms and names") {
+    const Config config;
+    EngineStats st;
+    SUBCASE("a program name after the opening comment lines") {
+        compare_checks("a.min", "(HEADER)\n\n%\nO1234\nG0 X1\nM30\n", config, {}, &st);
+        CHECK(st.programs == 1);
+    }
+    SUBCASE("a file without a program name") {
+        compare_checks("a.min", "(HEADER)\nG0 X1\nG0 X-1 (osplint: disable=OSP004)\n", config, {}, &st);
+    }
+    SUBCASE("an RTS makes the first program a subprogram") {
+        compare_checks("a.min", "O1\nG81 Z-5. R2. F100\nX1.\nRTS\nO2\nG0 X0\nG81 Z-5. R2. F100\nM30\n", config, {},
+                       &st);
+        CHECK(st.programs == 2);
+    }
+    SUBCASE("a CALL of a program defined later in the file") {
+        compare_checks("a.min", "O1\nCALL OSUB1 PX=1\nCALL OMISSING\nM30\nOSUB1\nG0 X1\nRTS\n", config, {}, &st);
+    }
+    SUBCASE("programs with the same name") {
+        compare_checks("a.min", "O1\nX1 Y1 @\nM30\nO1\nX1 Y1 @\nRTS\nO1\nGOTO N9\nX1 Y1 @\nRTS\n", config);
+    }
+    SUBCASE("a subprogram library") {
+        compare_checks("a.ssb", "OA\nG0 X1\nOB\nG81 Z-1. R1. F1\nRTS\n", config);
+    }
+    SUBCASE("a program name after a comment on its line") {
+        // `(LIB) O1234` names O1234, for the file's own CALLs and for the
+        // files that call it.
+        compare_checks("a.ssb", "(LIB) O1234\nG0 X1\nRTS\n", config);
+        MemorySource src("(LIB) O1234\nG0 X1\nRTS\n");
+        ProgramNames names;
+        CHECK(add_program_names(src, names));
+        CHECK(names == ProgramNames{"O1234"});
+    }
+}
+
+TEST_CASE("engine: jumps and loops") {
+    const Config config;
+    EngineStats st;
+    SUBCASE("an IF loop and a WHILE loop, held in memory") {
+        compare_checks("a.min",
+                       "O1\nVC1=0\nN1 G81 Z-5. R2. F100\nVC1=VC1+1\nIF [VC1 LT 3] N1\nG80\nGOTO NEND\nG0 X1\n"
+                       "NEND M30\nO2\nWHILE [VC2 LT 2] DO1\nVC2=VC2+1\nEND1\nRTS\n",
+                       config, {}, &st);
+        CHECK(st.loops == 2);
+        CHECK(st.held_loops == 2);
+        CHECK(st.loop_sweeps >= 2);
+    }
+    SUBCASE("a jump forward is no loop") {
+        compare_checks("a.min", "O1\nGOTO N5\nG91\nN5 G0 X1\nM30\n", config, {}, &st);
+        CHECK(st.loops == 0);
+    }
+    SUBCASE("a loop that switches to G91 in its body") {
+        compare_checks("a.min", "O1\nG90\nN10 G0 X0\nG91 X5.\nIF [VC1 LT 3] N10\nG90\nM30\n", config, {}, &st);
+        CHECK(st.loops == 1);
+    }
+    SUBCASE("nested and overlapping loops, a jump out of a loop") {
+        compare_checks("a.min",
+                       "O1\nN1 G0 X0\nWHILE [VC1 LT 2] DO1\nN2 G1 X1\nDO2\nIF [VC2 GT 3] N3\nEND2\nN3 X2\n"
+                       "IF [VC3 EQ 1] N2\nEND1\nGOTO N1\nM30\n",
+                       config, {}, &st);
+        CHECK(st.loops == 1);  // one hull: N1 .. GOTO N1
+    }
+    SUBCASE("a name defined twice, jumped to from between") {
+        compare_checks("a.min", "O1\nN7 G91\nG0 X1\nGOTO N7\nN7 G90\nM30\n", config, {}, &st);
+    }
+    SUBCASE("an N reference to a sequence name further down") {
+        compare_checks("a.min", "O1\nG85 N10 D7\nG0 X0\nN10 G1 X5\nG85 NAT2 D7\nM30\n", config, {}, &st);
+    }
+    SUBCASE("a loop too long to hold is read again") {
+        std::string text = "O1\nN1 G0 X0\n";
+        for (int i = 0; i < 3000; ++i) text += "G1 X" + std::to_string(i % 50) + ". Y1.\n";
+        text += "G91\nIF [VC1 LT 3] N1\nM30\n";
+        AnalysisOptions options;
+        options.held_loop_blocks = 100;
+        options.stats = &st;
+        const std::string held = dump_result(check_text("a.min", text, config));
+        CHECK(dump_result(check_text("a.min", text, config, options)) == held);
+        CHECK(st.loops == 1);
+        CHECK(st.held_loops == 0);
+        CHECK(st.blocks_parsed > 3 * 3000);
+        compare_checks("a.min", text, config);
+    }
+    SUBCASE("unreachable code after a jump, and a loop whose head is unreachable") {
+        compare_checks("a.min", "O1\nGOTO N9\nN3 G81 Z-1. R1. F1\nIF [VC1 LT 2] N3\nN9 M30\n", config);
+    }
+    SUBCASE("a block-deleted jump and a block-deleted END") {
+        compare_checks("a.min", "O1\nN1 G0 X1\n/GOTO N1\nDO1\nG91\n/END1\nM30\n", config);
+    }
+}
+
+TEST_CASE("engine: suppression directives") {
+    const Config config;
+    compare_checks("s.min",
+                   "(osplint: disable-file=OSP004 -- ends elsewhere)\nO1\n(osplint: disable=OSP005 -- on the control)\n"
+                   "\nCALL OMISSING\nCALL ONOPE (osplint: disable=OSP005,OSP104)\n(osplint: disable=OSP999)\n"
+                   "(osplint: disable=syntax-error)\n(osplint: enable=OSP1)\n(osplint: disable=OSP001)\nG1 X5 @\n"
+                   "(osplint: disable=OSP104)\n",
+                   config);
+    Config all;
+    all.rule_severity["OSP902"] = Severity::Info;
+    compare_checks("s.min",
+                   "O1 (osplint: disable=OSP004)\nG0 X1 (osplint: disable=OSP005, OSP104 -- not needed)\n"
+                   "(osplint: disable=OSP104)\n",
+                   all);
+    // A directive at the end of a file silences findings before it.
+    compare_checks("s.min", "O1\nCALL OMISSING\nCALL ONOPE\n(osplint: disable-file=OSP005)\n", config);
+}
+
+TEST_CASE("engine: positions on any line ending and text") {
+    const Config config;
+    for (const char* eol : {"\n", "\r\n", "\r"}) {
+        std::string text;
+        for (const char* l : {"O1 (\xE5\x88\x87\xE5\x89\x8A \xF0\x9F\x94\xA7)", "(\x90\xD8\x8D\xED) G81 Z-5. R2. F100",
+                              "X1 Y1 @ (\xE3\x81\x82)", "CALL OMISSING PX=1", "\t G1 X5 (open"})
+            text += std::string(l) + eol;
+        compare_checks("p.min", text, config);
+        compare_checks("p.min", text.substr(0, text.size() - std::strlen(eol)), config);  // no final line end
+    }
+    compare_checks("e.min", "", config);
+    compare_checks("e.min", "\n\n\n", config);
+    compare_checks("e.min", "\r\n", config);
+    std::string text = "O1\nG81 Z-5. R2. F100\n";
+    for (int i = 0; i < 3000; ++i) text += "X" + std::to_string(i % 50) + ". Y1.\n";
+    text += "M30\n";
+    compare_checks("a.min", text, config);  // findings on earlier lines, found again from a checkpoint
+}
+
+TEST_CASE("engine: generated programs") {
+    const Config config;
+    for (uint32_t seed = 1; seed <= 300; ++seed) {
+        Generator g(seed);
+        const std::string text = g.program();
+        compare_checks("gen" + std::to_string(seed) + (seed % 3 ? ".min" : ".ssb"), text, config);
+    }
+}
+
+TEST_CASE("engine: randomly mutated corpus programs") {
+    const auto files = corpus_files();
+    std::vector<std::pair<fs::path, std::string>> texts;
+    for (const auto& f : files) texts.emplace_back(f, read_all(f));
+    std::mt19937 rng(11221);
+    for (int i = 0; i < 400; ++i) {
+        const auto& [path, original] = texts[rng() % texts.size()];
+        compare_checks(path.string(), mutate(original, rng), config_for(path));
+    }
+}
+
+TEST_CASE("plain moves: apply_plain_move is apply_block on them") {
+    std::mt19937 rng(4242);
+    FastLineParser parser;
+    Block b;
+    Config config;
+    int plain = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const std::string text = plain_move_program(rng);
+        size_t start = 0;
+        uint32_t line = 1;
+        while (start < text.size()) {
+            const size_t end = text.find('\n', start);
+            const LineRef l{std::string_view(text).substr(start, end - start), "\n", line++,
+                            static_cast<uint32_t>(start)};
+            start = end + 1;
+            parser.parse(l, b);
+            const bool is_plain = is_plain_move_block(b);
+            // The parser's answer is never wrong when it says yes.
+            if (parser.last_plain()) CHECK_MESSAGE(is_plain, l.text);
+            if (!is_plain) continue;
+            ++plain;
+            ModalState s = initial_state(config, rng() % 4 == 0);
+            s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
+            s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
+            switch (rng() % 3) {
+                case 0: s.distance = Val<Distance>::of(Distance::Absolute); break;
+                case 1: s.distance = Val<Distance>::of(Distance::Incremental); break;
+                default: s.distance = {}; break;
+            }
+            if (rng() % 2) s.x = Val<double>::of(static_cast<double>(rng() % 100));
+            if (rng() % 2) s.z = Val<double>::of(-static_cast<double>(rng() % 100));
+            if (rng() % 2) s.motion = Val<int>::of(60);
+            REQUIRE(plain_move_state(s));
+            ModalState full = s, fast = s;
+            apply_block(b, nullptr, config.catalog, full);
+            apply_plain_move(b, fast);
+            CHECK_MESSAGE(full == fast, l.text);
+            CHECK_FALSE(resolve_call(b, s, config.catalog).has_value());
+        }
+    }
+    CHECK(plain > 10000);
+}
+
+TEST_CASE("engine: plain moves in every modal state give the reference's result") {
+    Config config;
+    config.travel['X'] = TravelLimit{-300, 300};
+    config.travel['Y'] = TravelLimit{-200, 200};
+    config.travel['Z'] = TravelLimit{-300, 100};
+    std::mt19937 rng(777);
+    std::map<std::string, int> seen;
+    for (int i = 0; i < 400; ++i) {
+        const std::string text = plain_move_program(rng);
+        compare_checks("plain" + std::to_string(i) + ".min", text, config);
+        for (const auto& d : check_text("p.min", text, config).diagnostics) ++seen[d.rule];
+    }
+    // The rules that look at plain moves had findings to compare.
+    for (const char* id : {"OSP003", "OSP004", "OSP212", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
+}
+
+TEST_CASE("plain moves: a G0..G3 registered as a macro turns the shortcut off") {
+    Config config;
+    CHECK(plain_moves_possible(config.catalog));
+    Config shop = parse_config("[macros.gcode]\nG1 = \"OZAGR\"\n", "osplint.toml");
+    CHECK_FALSE(plain_moves_possible(shop.catalog));
+    // `G1 X20.` has the shape of a plain move, but here it calls OZAGR (OSP101).
+    compare_checks("shop.min", "O1\nG0 X0 Y0 Z50.\nG1 X10. PR=2. PZ=-5.\nG1 X20.\nM30\n", shop);
+    CHECK_FALSE(check_text("shop.min", "O1\nG0 X0 Y0 Z50.\nG1 X20.\nM30\n", shop).diagnostics.empty());
+}
+
+TEST_CASE("OSP003: beyond the names it keeps, numeric duplicates are still found") {
+    // 100,010 numbered blocks: the first 100,000 names keep their place for
+    // the note, later numeric ones only a bit.
+    std::string text = "O1\n";
+    for (int i = 1; i <= 100010; ++i) text += "N" + std::to_string(i) + " G0 X" + std::to_string(i % 50) + ".\n";
+    text += "N5 X1.\nN100005 X2.\nNSTOP X3.\nNSTOP X4.\nN00005 X5.\nN100011 X6.\nM30\n";
+    AnalysisOptions options;
+    options.only_rules = {"OSP003"};
+    const FileResult r = check_text("dup.min", text, Config{}, options);
+    REQUIRE(r.diagnostics.size() == 3);
+    CHECK(r.diagnostics[0].message.find("N5 ") != std::string::npos);
+    REQUIRE(r.diagnostics[0].notes.size() == 1);
+    REQUIRE(r.diagnostics[0].notes[0].range.has_value());
+    CHECK(r.diagnostics[0].notes[0].range->start.line == 6);
+    CHECK(r.diagnostics[1].message.find("N100005 ") != std::string::npos);
+    REQUIRE(r.diagnostics[1].notes.size() == 1);
+    CHECK_FALSE(r.diagnostics[1].notes[0].range.has_value());
+    CHECK(r.diagnostics[2].message.find("NSTOP ") != std::string::npos);
+    REQUIRE(r.diagnostics[2].notes[0].range.has_value());
+    CHECK(r.diagnostics[2].notes[0].range->start.line == 100014);
+}
+
+TEST_CASE("engine: findings are handed over block by block") {
+    // A sink that records when each finding arrives: the findings of a block
+    // come before the next block is walked, those about the whole program
+    // after its last block, those about the directives at the end.
+    struct Order final : DiagnosticSink {
+        void diagnostic(Diagnostic&& d) override { lines.push_back(d.rule + "@" + std::to_string(d.range.start.line)); }
+        std::vector<std::string> lines;
+    };
+    Order order;
+    MemorySource src("O1\nG81 Z-5. R2. F100\nCALL OMISSING\n(osplint: disable=OSP999)\nG0 X1\n");
+    check_source("o.min", src, Config{}, {}, order);
+    REQUIRE(order.lines.size() >= 3);
+    CHECK(order.lines.front() == "OSP005@3");
+    CHECK(order.lines.back() == "OSP901@4");
+}
+
+TEST_CASE("engine: the observer sees every block with its states, and can stop the walk") {
+    BlockRecorder rec;
+    AnalysisOptions options;
+    options.observer = &rec;
+    options.run_rules = false;
+    MemorySource src("O1\nG91\nN1 G0 X1\nIF [VC1 LT 2] N1\nM30\n");
+    ResultCollector sink;
+    check_source("r.min", src, Config{}, options, sink);
+    REQUIRE(rec.blocks.size() == 5);
+    CHECK(rec.at(3)->before.distance.is(Distance::Incremental));
+    CHECK_FALSE(rec.at(3)->before.x.known);  // a loop: X differs between the passes
+
+    struct StopAt3 final : BlockObserver {
+        bool block(const BlockView&, const LineRef& l) override {
+            last = l.line;
+            return l.line < 3;
+        }
+        uint32_t last = 0;
+    } stop;
+    options.observer = &stop;
+    MemorySource again("O1\nG91\nN1 G0 X1\nIF [VC1 LT 2] N1\nM30\n");
+    check_source("r.min", again, Config{}, options, sink);
+    CHECK(stop.last == 3);
+}
