@@ -259,7 +259,7 @@ void Walk::walk_program(size_t index) {
         if (flow_.has_flow() && loop_head(b, line.start, extent)) walk_loop(b, line);
         else visit(b, line, Mode::Rules);
     }
-    positions_.current.clear();
+    positions_.clear_current();
     block_ = nullptr;
     if (error_.empty() && !(stop_ && options_.observer)) {
         program_.end_block = main_.next_line() - 1;
@@ -355,7 +355,7 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
 
 void Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode) {
     if (mode == Mode::Rules) {
-        positions_.current.clear();
+        positions_.clear_current();
         positions_.held.set(text, held.front().start, held.front().line);
         held_ = &held;
     }
@@ -390,30 +390,25 @@ void Walk::set_state(const MaybeState& s) {
 // ---------------------------------------------------------------- blocks
 
 // The state at the block's start where paths join: the state falling into
-// it, merged with what jumps and loop edges left for it.
+// it, merged with what jumps and loop edges left for it (and, inside a loop
+// being iterated, with what earlier sweeps brought there).
 void Walk::enter(const Block& b, uint32_t offset) {
-    bool join = false;
-    MaybeState in;
-    auto take_in = [&] {
-        if (join) return;
-        join = true;
-        in.reachable = reachable_;
-        if (reachable_) in.state = *A_;
-    };
-    if (b.sequence && tracks_labels_ && flow_.is_referenced(b.sequence->name)) {
+    const bool labelled = b.sequence && tracks_labels_ && flow_.is_referenced(b.sequence->name);
+    const MaybeState* by_name = nullptr;
+    const MaybeState* by_offset = nullptr;
+    if (labelled) {
         auto& defs = defs_[b.sequence->name];
         if (defs.empty() || defs.back() < offset) defs.push_back(offset);
-        if (auto it = pending_name_.find(b.sequence->name); it != pending_name_.end()) {
-            take_in();
-            in.merge(it->second);
-        }
+        if (auto it = pending_name_.find(b.sequence->name); it != pending_name_.end()) by_name = &it->second;
     }
     if (!pending_offset_.empty())
-        if (auto it = pending_offset_.find(offset); it != pending_offset_.end()) {
-            take_in();
-            in.merge(it->second);
-        }
-    if (!join) return;
+        if (auto it = pending_offset_.find(offset); it != pending_offset_.end()) by_offset = &it->second;
+    if (!by_name && !by_offset) return;  // no path but the one falling into the block
+    MaybeState in;
+    in.reachable = reachable_;
+    if (reachable_) in.state = *A_;
+    if (by_name) in.merge(*by_name);
+    if (by_offset) in.merge(*by_offset);
     if (in_loop_) {
         MaybeState& j = join_[offset];
         j.merge(in);
@@ -463,7 +458,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     enter(b, line.start);
     const bool rules = mode == Mode::Rules;
     if (rules) {
-        if (!held_) positions_.current.set_line(line);
+        if (!held_) positions_.set_current(line);
         block_ = &b;
     }
     if (!reachable_) {
@@ -518,7 +513,7 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
 // ------------------------------------------------------------- findings
 
 std::string_view Walk::text(ByteRange r) const {
-    for (const Window* w : {&positions_.current, &positions_.held}) {
+    for (const Window* w : {&positions_.current(), static_cast<const Window*>(&positions_.held)}) {
         if (w->contains(r.begin) && w->contains(r.end)) return w->text.substr(r.begin - w->base, r.size());
         // Past the end of the window: past the end of the file too when the
         // window's last line has no terminator.

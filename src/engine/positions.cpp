@@ -67,7 +67,7 @@ std::string_view Window::line_terminator(uint32_t line) const {
 
 Position Positions::position(uint32_t offset) {
     if (size_ && offset > *size_) offset = static_cast<uint32_t>(*size_);
-    for (const Window* w : {&current, &held})
+    for (const Window* w : {&current(), static_cast<const Window*>(&held)})
         if (w->contains(offset)) return w->position(offset);
     const LineData& f = find_offset(offset);
     Position p;
@@ -88,7 +88,7 @@ Position Positions::position(uint32_t offset) {
 }
 
 LineData Positions::line(uint32_t line) {
-    for (const Window* w : {&current, &held})
+    for (const Window* w : {&current(), static_cast<const Window*>(&held)})
         if (w->has_line(line)) {
             LineData d;
             d.ok = true;
@@ -102,7 +102,7 @@ LineData Positions::line(uint32_t line) {
 }
 
 std::string Positions::line_text(uint32_t n) {
-    for (const Window* w : {&current, &held})
+    for (const Window* w : {&current(), static_cast<const Window*>(&held)})
         if (w->has_line(n)) return std::string(w->line_text(n));
     const LineData& d = find_line(n);
     return d.ok ? d.text : std::string();

@@ -50,8 +50,23 @@ class Positions {
 public:
     explicit Positions(ByteSource& src) : src_(&src) { checkpoints_.push_back({0, 1}); }
 
-    Window current;  // the line of the block being checked
-    Window held;     // the lines of a loop held in memory
+    // The line of the block being checked (its window is made when asked for).
+    void set_current(const LineRef& l) {
+        line_in_hand_ = l;
+        has_line_in_hand_ = true;
+    }
+    void clear_current() {
+        has_line_in_hand_ = false;
+        current_.clear();
+    }
+    const Window& current() {
+        if (has_line_in_hand_) {
+            current_.set_line(line_in_hand_);
+            has_line_in_hand_ = false;
+        }
+        return current_;
+    }
+    Window held;  // the lines of a loop held in memory
 
     // The size of the input, once known (offsets past it are clamped).
     void set_size(uint64_t size) { size_ = size; }
@@ -81,6 +96,9 @@ private:
     const LineData& find_line(uint32_t n);
 
     ByteSource* src_;
+    Window current_;
+    LineRef line_in_hand_;
+    bool has_line_in_hand_ = false;
     std::optional<uint64_t> size_;
     std::vector<Checkpoint> checkpoints_;
     uint32_t last_line_ = 0;

@@ -15,6 +15,14 @@ namespace {
 
 inline bool is_break(char c) { return c == '\n' || c == '\r'; }
 
+// Bits set in a 16-bit mask (without relying on a POPCNT instruction).
+inline uint32_t count_bits(unsigned v) {
+    v = v - ((v >> 1) & 0x5555u);
+    v = (v & 0x3333u) + ((v >> 2) & 0x3333u);
+    v = (v + (v >> 4)) & 0x0F0Fu;
+    return (v + (v >> 8)) & 0x1Fu;
+}
+
 // A candidate found by next_candidate, and the line ends before it.
 struct Scan {
     const char* candidate = nullptr;  // nullptr: none in the range
@@ -58,10 +66,10 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
         if (cand) {
             const unsigned k = static_cast<unsigned>(__builtin_ctz(cand));
             out.candidate = p + k;
-            out.line_ends += static_cast<uint32_t>(__builtin_popcount(ends & ((1u << k) - 1u)));
+            out.line_ends += count_bits(ends & ((1u << k) - 1u));
             return out;
         }
-        out.line_ends += static_cast<uint32_t>(__builtin_popcount(ends));
+        out.line_ends += count_bits(ends);
         after_break = (brk >> 15) & 1u;
         after_i = (im >> 15) & 1u;
     }
