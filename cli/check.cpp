@@ -15,14 +15,14 @@
 #include <mutex>
 #include <thread>
 
-#include "engine/baseline.h"
+#include "output/baseline.h"
 #include "support/errors.h"
-#include "output/formats.h"
-#include "output/report.h"
 #include "api/check.h"
 #include "api/config.h"
 #include "engine/workspace.h"
-#include "output/sarif.h"
+#include "output/ordered.h"
+#include "output/pipeline.h"
+#include "output/writer.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"
@@ -46,6 +46,11 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
     cmd.add_option("--baseline", o.baseline, "Report only findings not recorded in this baseline file");
     cmd.add_option("--write-baseline", o.write_baseline,
                    "Record the current findings in this baseline file (they are then accepted)");
+    cmd.add_option("--max-findings", o.max_findings,
+                   "Show at most N findings per file; the others are counted (default: no limit)");
+    cmd.add_option("--fold", o.fold,
+                   "Show at most N findings of one kind (rule and message) per file, and the others as a count "
+                   "(default 10; 0 shows every one)");
 }
 
 namespace {
@@ -82,53 +87,51 @@ void validate_selection(const CheckOptions& o) {
         }
 }
 
-// Checks every file on a pool of worker threads. Each worker reads, parses and
-// analyzes one file at a time and keeps only its findings, so at most `jobs`
-// parsed files exist at once; results land in the slot of their file, so the
-// report is in path order and identical whatever the number of workers.
-std::vector<FileResult> check_files(const std::vector<std::string>& files,
-                                    const std::vector<std::shared_ptr<Config>>& configs,
-                                    const std::string& stdin_name, int stdin_fd,
-                                    const AnalysisOptions& options, unsigned jobs) {
-    std::vector<FileResult> results(files.size());
+// Checks every file on a pool of worker threads, each file's findings handed
+// on through its channel of `out` as the walk makes them: the report is in
+// path order and identical whatever the number of workers, and memory does not
+// grow with the findings. Returns an error when the workers could not all be
+// started (the files are then checked by those that were).
+std::string check_files(const std::vector<std::string>& files, const std::vector<std::shared_ptr<Config>>& configs,
+                        const std::string& stdin_name, int stdin_fd, const AnalysisOptions& options, unsigned jobs,
+                        OrderedOutput& out, bool progress) {
     std::atomic<size_t> next{0};
     std::atomic<size_t> done{0};
     std::mutex mu;
     std::condition_variable cv;
     auto worker = [&] {
         for (size_t i; (i = next.fetch_add(1)) < files.size();) {
-            FileResult r;
+            DiagnosticSink& sink = out.channel(i);
+            const std::string path = files[i] == "-" ? stdin_name : files[i];
             try {
-                // The batch path streams (analyzer/stream.h): same findings as
-                // check_text, in bounded memory however large the program.
-                ResultCollector collect(true);
-                if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], options, collect);
-                else check_path(files[i], *configs[i], options, collect);
-                r = collect.take();
+                if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], options, sink);
+                else check_path(files[i], *configs[i], options, sink);
             } catch (const std::exception& e) {
-                r = FileResult{};
-                r.path = files[i] == "-" ? stdin_name : files[i];
-                r.io_error = std::string("internal error while checking this file (please report it): ") + e.what();
-            } catch (...) {
-                r = FileResult{};
-                r.path = files[i] == "-" ? stdin_name : files[i];
-                r.io_error = "internal error while checking this file (please report it)";
+                sink.end_file(path, std::string("internal error while checking this file (please report it): ") +
+                                        e.what());
             }
-            results[i] = std::move(r);
             done.fetch_add(1);
             cv.notify_one();
         }
     };
-
-    const bool progress = files.size() > 20 && isatty(STDERR_FILENO);
     unsigned n = jobs ? jobs : std::max(1u, std::thread::hardware_concurrency());
     n = static_cast<unsigned>(std::min<size_t>(n, std::max<size_t>(files.size(), 1)));
     if (n <= 1 && !progress) {
         worker();
-        return results;
+        return {};
     }
+    std::string error;
     std::vector<std::thread> pool;
-    for (unsigned k = 0; k < n; ++k) pool.emplace_back(worker);
+    for (unsigned k = 0; k < n; ++k) {
+        try {
+            pool.emplace_back(worker);
+        } catch (const std::system_error& e) {
+            error = std::string("could not start more than ") + std::to_string(k) + " worker thread" +
+                    (k == 1 ? "" : "s") + " (" + e.what() + ")";
+            break;
+        }
+    }
+    if (pool.empty()) worker();  // this thread does the work
     if (progress) {
         std::unique_lock<std::mutex> lock(mu);
         while (done.load() < files.size()) {
@@ -138,8 +141,26 @@ std::vector<FileResult> check_files(const std::vector<std::string>& files,
         std::cerr << "\r\x1b[K" << std::flush;
     }
     for (auto& t : pool) t.join();
-    return results;
+    return error;
 }
+
+// Notes the files that could not be read, for the message at the end.
+class Unreadable final : public DiagnosticSink {
+public:
+    explicit Unreadable(DiagnosticSink& next) : next_(next) {}
+    bool wants_fingerprints() const override { return next_.wants_fingerprints(); }
+    void begin_file(const std::string& path) override { next_.begin_file(path); }
+    void diagnostic(Diagnostic&& d) override { next_.diagnostic(std::move(d)); }
+    void suppressed(SuppressedDiagnostic&& s) override { next_.suppressed(std::move(s)); }
+    void end_file(const std::string& path, const std::string& io_error) override {
+        if (!io_error.empty()) errors.push_back(path + ": " + io_error);
+        next_.end_file(path, io_error);
+    }
+    std::vector<std::string> errors;
+
+private:
+    DiagnosticSink& next_;
+};
 
 }  // namespace
 
@@ -232,56 +253,74 @@ int run_check(const CheckOptions& o) {
 
     AnalysisOptions options;
     options.known_programs = &names;
-    std::vector<FileResult> results = check_files(files, configs, stdin_name, stdin_fd, options, o.jobs);
-    if (stdin_fd >= 0) ::close(stdin_fd);
-    bool io_failed = !errors.empty();
-    for (const auto& r : results)
-        if (!r.io_error.empty()) {
-            errors.push_back(r.path + ": " + r.io_error);
-            io_failed = true;
-        }
-
-    // Baselines: write the current findings, or hide the recorded ones.
-    if (!o.write_baseline.empty()) {
-        Baseline b = make_baseline(results, o.write_baseline);
-        write_baseline(b, o.write_baseline);
-        std::cerr << "osplint: recorded " << b.entries.size() << " finding" << (b.entries.size() == 1 ? "" : "s")
-                  << " in " << o.write_baseline << "\n";
-        apply_baseline(results, b, o.write_baseline);
-    } else if (!o.baseline.empty()) {
-        apply_baseline(results, load_baseline(o.baseline), o.baseline);
-    }
 
     auto use_color = [&](int fd) {
         if (std::getenv("NO_COLOR")) return false;
         if (o.color == "always") return true;
         return o.color == "auto" && isatty(fd);
     };
-
-    if (o.format == "json") {
-        std::cout << render_json_report(results);
-    } else if (o.format == "sarif") {
-        std::cout << render_sarif(results, SarifOptions{fs::current_path()});
-    } else if (o.format == "gcc") {
-        std::cout << render_gcc(results);
-    } else if (o.format == "github") {
-        std::cout << render_github(results);
-        std::cout.flush();
-        // The annotations are for the pull request; the log gets the full report.
-        std::cerr << render_text(results, TextOptions{use_color(STDERR_FILENO)});
-    } else {
-        std::cout << render_text(results, TextOptions{use_color(STDOUT_FILENO)});
+    // The chain the findings go through (output/pipeline.h): baseline,
+    // counting, folding, the limit, the writer(s).
+    const Format format = *parse_format(o.format);
+    WriterOptions wo;
+    wo.color = use_color(format == Format::Github ? STDERR_FILENO : STDOUT_FILENO);
+    wo.sarif_root = fs::current_path();
+    std::unique_ptr<ReportWriter> writer = make_writer(format, std::cout, wo);
+    std::unique_ptr<ReportWriter> log;  // GitHub: the annotations are for the pull request, the log gets the text
+    std::unique_ptr<TeeSink> tee;
+    DiagnosticSink* tail = writer.get();
+    if (format == Format::Github) {
+        log = make_writer(Format::Text, std::cerr, wo);
+        tee = std::make_unique<TeeSink>(*writer, *log);
+        tail = tee.get();
     }
+    Counts counts;
+    LimitSink limit(*tail, o.max_findings, counts);
+    FoldingSink fold(limit, o.fold, counts);
+    CountingSink count(fold, counts);
+    Unreadable unreadable(count);
+    DiagnosticSink* head = &unreadable;
+    std::optional<BaselineFilter> filter;
+    std::optional<BaselineRecorder> recorder;
+    Baseline recorded;
+    if (!o.write_baseline.empty()) {
+        recorder.emplace(*head, recorded, o.write_baseline);
+        head = &*recorder;
+    } else if (!o.baseline.empty()) {
+        filter.emplace(*head, load_baseline(o.baseline), o.baseline);
+        head = &*filter;
+    }
+    OrderedOutput ordered(*head, files.size());
+    const bool progress = files.size() > 20 && isatty(STDERR_FILENO) && !isatty(STDOUT_FILENO);
+    const std::string pool_error = check_files(files, configs, stdin_name, stdin_fd, options, o.jobs, ordered, progress);
+    if (stdin_fd >= 0) ::close(stdin_fd);
+    writer->finish(counts);
+    if (log) log->finish(counts);
     std::cout.flush();
+    if (!pool_error.empty()) std::cerr << "osplint: note: " << pool_error << "; fewer files were checked at once\n";
+    for (const auto& e : ordered.errors()) errors.push_back("output lost: " + e);
+    for (const auto& e : unreadable.errors) errors.push_back(e);
+    const bool io_failed = !errors.empty();
+
+    // The baseline is written only when every file could be read: a file that
+    // could not be read would lose its entries.
+    if (recorder) {
+        if (io_failed) {
+            errors.push_back("the baseline " + o.write_baseline + " was not written: some files could not be read");
+        } else {
+            std::sort(recorded.entries.begin(), recorded.entries.end(), [](const BaselineEntry& x, const BaselineEntry& y) {
+                return std::tie(x.path, x.rule, x.fingerprint) < std::tie(y.path, y.rule, y.fingerprint);
+            });
+            write_baseline(recorded, o.write_baseline);
+            std::cerr << "osplint: recorded " << recorded.entries.size() << " finding"
+                      << (recorded.entries.size() == 1 ? "" : "s") << " in " << o.write_baseline << "\n";
+        }
+    }
     for (const auto& e : errors) std::cerr << "osplint: " << e << "\n";
 
     if (io_failed) return 2;
     if (o.fail_on == "never") return 0;
-    Severity threshold = *parse_severity(o.fail_on);
-    for (const auto& r : results)
-        for (const auto& d : r.diagnostics)
-            if (d.severity >= threshold) return 1;
-    return 0;
+    return counts.at_least(*parse_severity(o.fail_on)) > 0 ? 1 : 0;
 }
 
 }  // namespace osplint::cli

@@ -21,6 +21,8 @@ struct CheckOptions {
     unsigned jobs = 0;           // -j: worker threads; 0 = one per core
     std::string baseline;        // --baseline: report only findings not recorded there
     std::string write_baseline;  // --write-baseline: record the current findings there
+    uint64_t max_findings = 0;   // --max-findings: per file; 0 = no limit
+    uint64_t fold = 10;          // --fold: findings of one kind shown per file before the others fold; 0 = off
 };
 void add_check_options(CLI::App& cmd, CheckOptions& o);
 int run_check(const CheckOptions& o);

@@ -12,7 +12,6 @@
 
 #include "support/embedded.h"
 #include "support/errors.h"
-#include "output/report.h"
 #include "api/config.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"

@@ -48,12 +48,35 @@ std::string make_fingerprint(std::string_view rule, std::string_view program, st
     return fmt::format("{:016x}", f.h);
 }
 
+bool OccurrenceCounter::insert(uint64_t key) {
+    if (key == 0) key = 1;  // 0 marks an empty slot
+    if ((used_ + 1) * 2 > slots_.size()) {
+        std::vector<uint64_t> old = std::move(slots_);
+        slots_.assign(old.empty() ? 1024 : old.size() * 2, 0);
+        used_ = 0;
+        for (uint64_t k : old)
+            if (k) insert(k);
+    }
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = static_cast<size_t>(key * 0x9E3779B97F4A7C15ull) & mask;; i = (i + 1) & mask) {
+        if (slots_[i] == key) return false;
+        if (slots_[i] == 0) {
+            slots_[i] = key;
+            ++used_;
+            return true;
+        }
+    }
+}
+
 int OccurrenceCounter::next(std::string_view rule, std::string_view program, std::string_view block_text) {
     Fnv f;
     f.mix(rule);
     f.mix(program);
     f.mix(block_text);
-    return ++counts_[f.h];
+    if (insert(f.h)) return 1;
+    int& n = repeats_[f.h];
+    if (n == 0) n = 1;
+    return ++n;
 }
 
 }  // namespace osplint

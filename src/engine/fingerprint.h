@@ -25,15 +25,24 @@ std::string make_fingerprint(std::string_view rule, std::string_view program, st
                              int occurrence);
 
 // Counts the occurrences of (rule, program, block text) in one file. Keeps a
-// 64-bit hash of each distinct combination and its count.
+// 64-bit hash of each distinct combination in an open-addressing table (8 to
+// 16 bytes each: 16 MB for a million findings on distinct blocks), and a count
+// only for the combinations seen more than once.
 class OccurrenceCounter {
 public:
     // The 1-based occurrence of this combination, counting this one.
     int next(std::string_view rule, std::string_view program, std::string_view block_text);
-    void clear() { counts_.clear(); }
+    void clear() {
+        slots_.clear();
+        used_ = 0;
+        repeats_.clear();
+    }
 
 private:
-    std::unordered_map<uint64_t, int> counts_;
+    bool insert(uint64_t key);  // false when the key was there already
+    std::vector<uint64_t> slots_;  // 0: empty
+    size_t used_ = 0;
+    std::unordered_map<uint64_t, int> repeats_;
 };
 
 }  // namespace osplint

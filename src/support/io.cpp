@@ -220,3 +220,59 @@ bool LineStream::fill() {
 }
 
 }  // namespace osplint
+
+namespace osplint {
+
+Spool::~Spool() {
+    if (file_) std::fclose(file_);
+}
+
+bool Spool::append(std::string_view bytes) {
+    if (!error_.empty()) return false;
+    memory_.append(bytes);
+    if (memory_.size() <= limit_) return true;
+    if (!file_) {
+        file_ = std::tmpfile();
+        if (!file_) {
+            error_ = std::string("cannot create a temporary file: ") + std::strerror(errno);
+            return false;
+        }
+    }
+    if (std::fwrite(memory_.data(), 1, memory_.size(), file_) != memory_.size()) {
+        error_ = std::string("cannot write a temporary file: ") + std::strerror(errno);
+        return false;
+    }
+    file_bytes_ += memory_.size();
+    memory_.clear();
+    return true;
+}
+
+bool Spool::drain_file(const std::function<void(std::string_view)>& out) {
+    if (std::fflush(file_) != 0 || std::fseek(file_, 0, SEEK_SET) != 0) {
+        error_ = std::string("cannot read a temporary file: ") + std::strerror(errno);
+        return false;
+    }
+    std::vector<char> buf(size_t(1) << 20);
+    uint64_t left = file_bytes_;
+    while (left > 0) {
+        const size_t n = std::fread(buf.data(), 1, std::min<uint64_t>(buf.size(), left), file_);
+        if (n == 0) {
+            error_ = "cannot read a temporary file";
+            return false;
+        }
+        out(std::string_view(buf.data(), n));
+        left -= n;
+    }
+    return true;
+}
+
+void Spool::clear() {
+    memory_.clear();
+    if (file_) {
+        std::fclose(file_);
+        file_ = nullptr;
+    }
+    file_bytes_ = 0;
+}
+
+}  // namespace osplint

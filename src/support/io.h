@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -135,6 +136,46 @@ private:
     bool eof_ = false;
     bool error_ = false;
     uint32_t line_ = 1;
+};
+
+}  // namespace osplint
+
+namespace osplint {
+
+// Bytes kept in order: in memory up to `memory_limit`, then in an unlinked
+// temporary file. For output that must wait (the findings of a file checked
+// in parallel with the one being printed, the JSON report's suppressed list).
+class Spool {
+public:
+    explicit Spool(size_t memory_limit = size_t(4) << 20) : limit_(memory_limit) {}
+    ~Spool();
+    Spool(const Spool&) = delete;
+    Spool& operator=(const Spool&) = delete;
+
+    // False when the temporary file could not be written (the bytes are lost; error() says why).
+    bool append(std::string_view bytes);
+    bool empty() const { return memory_.empty() && file_bytes_ == 0; }
+    uint64_t size() const { return file_bytes_ + memory_.size(); }
+    // Hands every byte to `out` in pieces, in order, then empties the spool.
+    template <class F>
+    bool drain(F&& out) {
+        if (file_) {
+            if (!drain_file([&](std::string_view piece) { out(piece); })) return false;
+        }
+        if (!memory_.empty()) out(std::string_view(memory_));
+        clear();
+        return error_.empty();
+    }
+    void clear();
+    const std::string& error() const { return error_; }
+
+private:
+    bool drain_file(const std::function<void(std::string_view)>& out);
+    size_t limit_;
+    std::string memory_;
+    FILE* file_ = nullptr;
+    uint64_t file_bytes_ = 0;
+    std::string error_;
 };
 
 }  // namespace osplint

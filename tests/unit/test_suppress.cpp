@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <string>
 
-#include "engine/baseline.h"
+#include "output/baseline.h"
 #include "engine/suppress.h"
 #include "api/check.h"
 #include "api/config.h"

@@ -1,4 +1,4 @@
-#include "engine/baseline.h"
+#include "output/baseline.h"
 
 #include <algorithm>
 #include <fstream>
@@ -111,39 +111,96 @@ void write_baseline(const Baseline& baseline, const fs::path& file) {
     }
 }
 
-size_t apply_baseline(std::vector<FileResult>& results, const Baseline& baseline, const fs::path& baseline_file) {
-    std::map<std::tuple<std::string, std::string, std::string>, size_t> remaining;
-    for (const auto& e : baseline.entries) ++remaining[{e.path, e.rule, e.fingerprint}];
-    const std::string reason = "recorded in the baseline " + baseline_file.filename().string();
-    size_t moved = 0;
-    for (auto& r : results) {
-        if (r.diagnostics.empty()) continue;
-        std::string path = baseline_path(r.path, baseline_file);
-        std::vector<Diagnostic> kept;
-        bool any = false;
-        for (auto& d : r.diagnostics) {
-            auto it = remaining.find({path, d.rule, d.fingerprint});
-            if (it == remaining.end() || it->second == 0) {
-                kept.push_back(std::move(d));
-                continue;
-            }
-            --it->second;
-            SuppressedDiagnostic s;
-            s.kind = SuppressedDiagnostic::Kind::Baseline;
-            s.reason = reason;
-            s.diagnostic = std::move(d);
-            r.suppressed.push_back(std::move(s));
-            any = true;
-            ++moved;
-        }
-        r.diagnostics = std::move(kept);
-        if (any)
-            std::stable_sort(r.suppressed.begin(), r.suppressed.end(),
-                             [](const SuppressedDiagnostic& a, const SuppressedDiagnostic& b) {
-                                 return diagnostic_less(a.diagnostic, b.diagnostic);
-                             });
+namespace {
+
+std::string reason_for(const fs::path& baseline_file) {
+    return "recorded in the baseline " + baseline_file.filename().string();
+}
+
+// Collects what a filter passes on, per file.
+class Collect final : public DiagnosticSink {
+public:
+    explicit Collect(std::vector<FileResult>& out) : out_(out) {}
+    void begin_file(const std::string& path) override {
+        out_.emplace_back();
+        out_.back().path = path;
     }
-    return moved;
+    void diagnostic(Diagnostic&& d) override { out_.back().diagnostics.push_back(std::move(d)); }
+    void suppressed(SuppressedDiagnostic&& s) override { out_.back().suppressed.push_back(std::move(s)); }
+    void end_file(const std::string&, const std::string& io_error) override { out_.back().io_error = io_error; }
+
+private:
+    std::vector<FileResult>& out_;
+};
+
+}  // namespace
+
+BaselineFilter::BaselineFilter(DiagnosticSink& next, const Baseline& baseline, const fs::path& baseline_file)
+    : next_(next), file_(baseline_file), reason_(reason_for(baseline_file)) {
+    for (const auto& e : baseline.entries) ++remaining_[{e.path, e.rule, e.fingerprint}];
+}
+
+void BaselineFilter::begin_file(const std::string& path) {
+    path_ = baseline_path(path, file_);
+    next_.begin_file(path);
+}
+
+void BaselineFilter::diagnostic(Diagnostic&& d) {
+    auto it = remaining_.find({path_, d.rule, d.fingerprint});
+    if (it == remaining_.end() || it->second == 0) {
+        next_.diagnostic(std::move(d));
+        return;
+    }
+    --it->second;
+    ++moved_;
+    SuppressedDiagnostic s;
+    s.kind = SuppressedDiagnostic::Kind::Baseline;
+    s.reason = reason_;
+    s.diagnostic = std::move(d);
+    next_.suppressed(std::move(s));
+}
+
+BaselineRecorder::BaselineRecorder(DiagnosticSink& next, Baseline& baseline, const fs::path& baseline_file)
+    : next_(next), baseline_(baseline), file_(baseline_file), reason_(reason_for(baseline_file)) {
+    baseline_.tool_version = std::string(version());
+}
+
+void BaselineRecorder::begin_file(const std::string& path) {
+    path_ = baseline_path(path, file_);
+    next_.begin_file(path);
+}
+
+void BaselineRecorder::diagnostic(Diagnostic&& d) {
+    baseline_.entries.push_back({path_, d.rule, d.fingerprint});
+    SuppressedDiagnostic s;
+    s.kind = SuppressedDiagnostic::Kind::Baseline;
+    s.reason = reason_;
+    s.diagnostic = std::move(d);
+    next_.suppressed(std::move(s));
+}
+
+void BaselineRecorder::end_file(const std::string& path, const std::string& io_error) {
+    if (!io_error.empty()) unreadable_.push_back(path);
+    next_.end_file(path, io_error);
+}
+
+size_t apply_baseline(std::vector<FileResult>& results, const Baseline& baseline, const fs::path& baseline_file) {
+    std::vector<FileResult> out;
+    Collect collect(out);
+    BaselineFilter filter(collect, baseline, baseline_file);
+    for (auto& r : results) {
+        filter.begin_file(r.path);
+        for (auto& d : r.diagnostics) filter.diagnostic(std::move(d));
+        for (auto& s : r.suppressed) filter.suppressed(std::move(s));
+        filter.end_file(r.path, r.io_error);
+    }
+    for (auto& r : out)
+        std::stable_sort(r.suppressed.begin(), r.suppressed.end(),
+                         [](const SuppressedDiagnostic& a, const SuppressedDiagnostic& b) {
+                             return diagnostic_less(a.diagnostic, b.diagnostic);
+                         });
+    results = std::move(out);
+    return filter.moved();
 }
 
 }  // namespace osplint

@@ -20,6 +20,8 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -55,5 +57,49 @@ void write_baseline(const Baseline& baseline, const std::filesystem::path& file)
 // Baseline). Returns how many were moved.
 size_t apply_baseline(std::vector<FileResult>& results, const Baseline& baseline,
                       const std::filesystem::path& baseline_file);
+
+// In a stream of findings: those the baseline records go on as suppressed
+// (kind Baseline), each entry matching at most one finding; the others go on
+// as they are.
+class BaselineFilter final : public DiagnosticSink {
+public:
+    BaselineFilter(DiagnosticSink& next, const Baseline& baseline, const std::filesystem::path& baseline_file);
+    bool wants_fingerprints() const override { return true; }
+    void begin_file(const std::string& path) override;
+    void diagnostic(Diagnostic&& d) override;
+    void suppressed(SuppressedDiagnostic&& s) override { next_.suppressed(std::move(s)); }
+    void end_file(const std::string& path, const std::string& io_error) override { next_.end_file(path, io_error); }
+    size_t moved() const { return moved_; }
+
+private:
+    DiagnosticSink& next_;
+    std::filesystem::path file_;
+    std::string reason_;
+    std::map<std::tuple<std::string, std::string, std::string>, size_t> remaining_;
+    std::string path_;  // the current file as the baseline records it
+    size_t moved_ = 0;
+};
+
+// In a stream of findings: records each in `baseline` (the files that could
+// not be read are noted in `unreadable`), then passes it on as accepted
+// (suppressed, kind Baseline), as the baseline written at the end will.
+class BaselineRecorder final : public DiagnosticSink {
+public:
+    BaselineRecorder(DiagnosticSink& next, Baseline& baseline, const std::filesystem::path& baseline_file);
+    bool wants_fingerprints() const override { return true; }
+    void begin_file(const std::string& path) override;
+    void diagnostic(Diagnostic&& d) override;
+    void suppressed(SuppressedDiagnostic&& s) override { next_.suppressed(std::move(s)); }
+    void end_file(const std::string& path, const std::string& io_error) override;
+    const std::vector<std::string>& unreadable() const { return unreadable_; }
+
+private:
+    DiagnosticSink& next_;
+    Baseline& baseline_;
+    std::filesystem::path file_;
+    std::string reason_;
+    std::string path_;
+    std::vector<std::string> unreadable_;
+};
 
 }  // namespace osplint
