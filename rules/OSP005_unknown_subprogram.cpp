@@ -1,5 +1,5 @@
 // OSP005 unknown-subprogram: CALL/MODIN of a program osplint cannot find.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,5 +1,5 @@
 // OSP101 missing-required-argument: an argument whose omission raises an alarm is absent.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

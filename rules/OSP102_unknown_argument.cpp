@@ -1,5 +1,5 @@
 // OSP102 unknown-argument: an argument the macro does not take.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <functional>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

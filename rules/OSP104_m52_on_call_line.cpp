@@ -1,5 +1,5 @@
 // OSP104 m52-on-call-line: M52 on the CALL/MODIN line of a subprogram macro.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,5 +1,5 @@
 // OSP105 repeat-count-on-macro-call: a Q repeat count on CALL/MODIN of these macros.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,5 +1,5 @@
 // OSP106 m53-without-pt: M53 in effect for a macro call that gives no PT.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

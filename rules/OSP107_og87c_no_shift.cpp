@@ -1,6 +1,6 @@
 // OSP107 og87c-no-shift: no non-zero shift in the positioning plane (the
 // catalog's plane-dependent "at least one of" requirements; OG87C PI/PJ/PK).
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

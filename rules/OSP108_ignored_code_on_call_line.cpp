@@ -1,5 +1,5 @@
 // OSP108 ignored-code-on-call-line: spindle/coolant codes the macro may ignore.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

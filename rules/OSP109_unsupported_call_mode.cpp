@@ -1,5 +1,5 @@
 // OSP109 unsupported-call-mode: a macro used in a way its manual says does not work.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,5 +1,5 @@
 // OSP110 inch-mode-macro: an mm-only macro used while inch units are in effect.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,5 +1,5 @@
 // OSP111 g91-absolute-cycle-axis: under G91 the macros' cycle-axis arguments stay absolute.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,6 +1,6 @@
 // OSP112 upper-limit-return-outside-g17: PM=52 / M52 asked for where the
 // macro's action sequence returns to the Z+ limit only in G17.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

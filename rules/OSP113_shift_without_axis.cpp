@@ -1,6 +1,6 @@
 // OSP113 shift-without-axis: a shift argument the plane table gives no axis in
 // the plane in effect (OG87C: PK in G17, PJ in G18, PI in G19).
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,6 +1,6 @@
 // OSP114 return-mode-not-documented: M53/M54 written on the call of a macro
 // whose manual documents no M53/M54 behaviour (OLPEX/OLPEY, OLAPX/OLAPY).
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,6 +1,6 @@
 // OSP115 rapid-plunge: the macro plunges to the Z point at rapid unless a feed
 // argument is given (OKYLX/OKYLY step 4 without PFA).
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "semantics/eval.h"
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

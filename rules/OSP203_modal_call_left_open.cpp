@@ -3,7 +3,7 @@
 #include <map>
 #include <string>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

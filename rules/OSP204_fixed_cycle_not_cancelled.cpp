@@ -2,7 +2,7 @@
 // modal without G80 between, or a cycle still modal where the program ends.
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

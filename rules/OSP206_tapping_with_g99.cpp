@@ -1,7 +1,7 @@
 // OSP206 tapping-with-g99: a tapper cycle (G84 normal tap, G114/OG84L) under G99.
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,7 +1,7 @@
 // OSP207 code-not-alone: M843 or M845 in a block together with another word.
 #include <string>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -2,7 +2,7 @@
 // leaves the spindle and feed overrides disabled.
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

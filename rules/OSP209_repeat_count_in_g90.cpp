@@ -1,7 +1,7 @@
 // OSP209 repeat-count-in-g90: L (repeat count) on a fixed cycle in G90 mode.
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

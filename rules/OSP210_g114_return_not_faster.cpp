@@ -2,7 +2,7 @@
 // than the feed F (FA omitted means FA = F).
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

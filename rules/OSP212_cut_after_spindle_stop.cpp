@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,5 +1,5 @@
 // OSP213 g82-without-dwell: G82 (counterboring) started without P.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

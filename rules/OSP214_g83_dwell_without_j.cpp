@@ -1,5 +1,5 @@
 // OSP214 g83-dwell-without-j: P on G83 has an effect only when J is commanded.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

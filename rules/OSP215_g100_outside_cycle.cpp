@@ -1,5 +1,5 @@
 // OSP215 g100-outside-cycle: G100 (drilling ignore) where no fixed cycle is modal.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -2,7 +2,7 @@
 // closed by M845, or M3/M4/M5 are used while it is on.
 #include <optional>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

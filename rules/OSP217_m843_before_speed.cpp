@@ -1,5 +1,5 @@
 // OSP217 m843-before-speed: M843 commanded before any spindle speed S.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

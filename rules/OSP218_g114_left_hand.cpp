@@ -1,7 +1,7 @@
 // OSP218 g114-left-hand: G114 (OG84L) with the spindle in reverse (M4).
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -2,7 +2,7 @@
 // format requires (Z, R, and Q/K where the cycle has them).
 #include <fmt/format.h>
 
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

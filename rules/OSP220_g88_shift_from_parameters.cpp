@@ -1,6 +1,6 @@
 // OSP220 g88-shift-from-parameters: G88 (fine boring) without I and J: the
 // shift direction and amount come from setting parameters.
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "semantics/config.h"
 #include "semantics/motion.h"
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "semantics/motion.h"
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

@@ -1,7 +1,7 @@
 // OSP303 cycle-axis-unbounded: the cycle-axis envelope of a macro call or a
 // fixed-cycle hole cannot be bounded, so OSP301 cannot check it.
 #include "semantics/motion.h"
-#include "macro_support.h"
+#include "rules/macro_support.h"
 
 namespace osplint {
 namespace {

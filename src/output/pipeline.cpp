@@ -5,8 +5,8 @@
 namespace osplint {
 
 uint64_t FoldingSink::kind_of(const Diagnostic& d) {
-    // FNV-1a over the rule, a separator and the message with each run of
-    // digits (and points between them) read as one '#'.
+    // FNV-1a over the rule, a separator and the message with each number (a
+    // run of digits and points, with its sign) read as one '#'.
     uint64_t h = 1469598103934665603ull;
     auto mix = [&](unsigned char c) {
         h ^= c;
@@ -14,9 +14,13 @@ uint64_t FoldingSink::kind_of(const Diagnostic& d) {
     };
     for (char c : d.rule) mix(static_cast<unsigned char>(c));
     mix(0x1f);
+    const std::string& m = d.message;
+    auto digit = [&](size_t i) { return i < m.size() && m[i] >= '0' && m[i] <= '9'; };
     bool in_number = false;
-    for (char c : d.message) {
-        const bool part = (c >= '0' && c <= '9') || (in_number && c == '.');
+    for (size_t i = 0; i < m.size(); ++i) {
+        const char c = m[i];
+        // A sign belongs to the number it starts.
+        const bool part = digit(i) || (in_number && c == '.') || (!in_number && (c == '-' || c == '+') && digit(i + 1));
         if (part && !in_number) mix('#');
         if (!part) mix(static_cast<unsigned char>(c));
         in_number = part;

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "output/ordered.h"
 #include "output/pipeline.h"
 #include "output/render.h"
 #include "output/writer.h"
@@ -300,4 +301,134 @@ TEST_CASE("JSON report: the version 1 contract, with suppressed findings and the
     CHECK(full["summary"]["error"].get<size_t>() + full["summary"]["warning"].get<size_t>() +
               full["summary"]["info"].get<size_t>() ==
           diags.size());
+}
+
+namespace {
+
+Diagnostic finding(std::string rule, std::string message, uint32_t line, Severity severity = Severity::Error) {
+    Diagnostic d;
+    d.rule = std::move(rule);
+    d.name = "n";
+    d.severity = severity;
+    d.message = std::move(message);
+    d.range.start = {line, 0, 0, 0};
+    d.range.end = {line, 1, 1, 1};
+    d.line_text = "X1";
+    return d;
+}
+
+// Records what reaches it, one line per call.
+struct Recorder final : DiagnosticSink {
+    void begin_file(const std::string& p) override { calls.push_back("begin " + p); }
+    void diagnostic(Diagnostic&& d) override {
+        calls.push_back("diag " + d.rule + "@" + std::to_string(d.range.start.line) +
+                        (d.folded ? " +" + std::to_string(d.folded) : ""));
+    }
+    void suppressed(SuppressedDiagnostic&& s) override {
+        calls.push_back("supp " + s.diagnostic.rule + "@" + std::to_string(s.diagnostic.range.start.line));
+    }
+    void end_file(const std::string& p, const std::string& e) override { calls.push_back("end " + p + " " + e); }
+    std::vector<std::string> calls;
+};
+
+}  // namespace
+
+TEST_CASE("folding: beyond `keep` findings of a kind, the others become one with their count") {
+    Recorder rec;
+    Counts counts;
+    FoldingSink fold(rec, 2, counts);
+    fold.begin_file("A.MIN");
+    // Two kinds interleaved: numbers do not make a kind, words do.
+    for (uint32_t i = 1; i <= 6; ++i) {
+        fold.diagnostic(finding("OSP301", "Z-" + std::to_string(300 + i) + ".5 is below -300", i));
+        fold.diagnostic(finding("OSP301", "X" + std::to_string(i) + " is above 100", 100 + i));
+    }
+    fold.diagnostic(finding("OSP104", "M52 on the CALL line", 50));
+    fold.end_file("A.MIN", "");
+    const std::vector<std::string> expected = {
+        "begin A.MIN", "diag OSP301@1", "diag OSP301@101", "diag OSP301@2", "diag OSP301@102",
+        "diag OSP104@50", "diag OSP301@3 +3", "diag OSP301@103 +3", "end A.MIN "};
+    CHECK(rec.calls == expected);
+    CHECK(counts.folded == 6);
+    CHECK(FoldingSink::kind_of(finding("R", "Z-301.5 below", 1)) == FoldingSink::kind_of(finding("R", "Z7 below", 2)));
+    CHECK(FoldingSink::kind_of(finding("R", "Z-301.5 below", 1)) != FoldingSink::kind_of(finding("R", "X-301.5 below", 1)));
+    CHECK(FoldingSink::kind_of(finding("R", "a", 1)) != FoldingSink::kind_of(finding("S", "a", 1)));
+}
+
+TEST_CASE("folding off, and the limit per file") {
+    Recorder rec;
+    Counts counts;
+    LimitSink limit(rec, 3, counts);
+    FoldingSink fold(limit, 0, counts);
+    for (const char* file : {"A.MIN", "B.MIN"}) {
+        fold.begin_file(file);
+        for (uint32_t i = 1; i <= 5; ++i) fold.diagnostic(finding("OSP104", "m", i));
+        fold.end_file(file, "");
+    }
+    const std::vector<std::string> expected = {"begin A.MIN", "diag OSP104@1", "diag OSP104@2", "diag OSP104@3",
+                                               "diag OSP104@4 +1",  "end A.MIN ",   "begin B.MIN",   "diag OSP104@1",
+                                               "diag OSP104@2",     "diag OSP104@3", "diag OSP104@4 +1", "end B.MIN "};
+    CHECK(rec.calls == expected);
+    CHECK(counts.folded == 2);
+}
+
+TEST_CASE("ordered output: files finishing out of order are handed on in order, spooled through a file") {
+    Recorder rec;
+    OrderedOutput out(rec, 3);
+    DiagnosticSink& a = out.channel(0);
+    DiagnosticSink& b = out.channel(1);
+    DiagnosticSink& c = out.channel(2);
+    // C and B run ahead of A; B spills past the memory of its spool.
+    c.begin_file("C");
+    c.diagnostic(finding("OSP3", std::string(100, 'c'), 1));
+    c.end_file("C", "gone");
+    b.begin_file("B");
+    for (uint32_t i = 1; i <= 60000; ++i) b.diagnostic(finding("OSP2", std::string(100, 'b'), i));
+    a.begin_file("A");
+    a.diagnostic(finding("OSP1", "a", 1));
+    CHECK(rec.calls == std::vector<std::string>{"begin A", "diag OSP1@1"});  // A goes straight through
+    a.end_file("A", "");
+    // B is now replayed and goes on straight through.
+    REQUIRE(rec.calls.size() == 3 + 1 + 60000);
+    CHECK(rec.calls[3] == "begin B");
+    CHECK(rec.calls.back() == "diag OSP2@60000");
+    SuppressedDiagnostic s;
+    s.diagnostic = finding("OSP2", "s", 60001);
+    s.reason = "r";
+    b.suppressed(std::move(s));
+    b.end_file("B", "");
+    CHECK(rec.calls[rec.calls.size() - 5] == "supp OSP2@60001");
+    CHECK(rec.calls[rec.calls.size() - 4] == "end B ");
+    CHECK(rec.calls[rec.calls.size() - 3] == "begin C");
+    CHECK(rec.calls[rec.calls.size() - 1] == "end C gone");
+    CHECK(out.errors().empty());
+}
+
+TEST_CASE("ordered output: a diagnostic survives its binary form, every field") {
+    Diagnostic d = finding("OSP104", "M52 \xE2\x80\x94 PM=52", 3, Severity::Warning);
+    d.notes.push_back({"n1", std::nullopt});
+    d.notes.push_back({"n2", d.range});
+    d.fixes.push_back({"t", {{d.range, "PM=52"}, {d.range, ""}}});
+    d.fingerprint = "0123456789abcdef";
+    d.folded = 7;
+    d.folded_last = d.range;
+    std::string bytes;
+    encode_diagnostic(bytes, d);
+    std::string_view in(bytes);
+    Diagnostic back;
+    REQUIRE(decode_diagnostic(in, back));
+    CHECK(in.empty());
+    CHECK(back.rule == d.rule);
+    CHECK(back.message == d.message);
+    CHECK(back.severity == d.severity);
+    CHECK(back.notes.size() == 2);
+    CHECK_FALSE(back.notes[0].range.has_value());
+    CHECK(back.notes[1].range->start.line == 3);
+    CHECK(back.fixes[0].edits[0].replacement == "PM=52");
+    CHECK(back.fingerprint == d.fingerprint);
+    CHECK(back.folded == 7);
+    CHECK(back.folded_last.has_value());
+    std::string_view cut(bytes.data(), bytes.size() - 3);
+    Diagnostic broken;
+    CHECK_FALSE(decode_diagnostic(cut, broken));
 }
