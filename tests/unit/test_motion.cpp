@@ -1,4 +1,4 @@
-// Cycle-axis envelopes (analyzer/motion.h), the travel rule OSP301, the order
+// Cycle-axis envelopes (src/semantics/motion.h), the travel rule OSP301, the order
 // rule OSP302, the unbounded notes OSP303 and the picture of `osplint trace --svg`.
 //
 // Every expected envelope below is worked out by hand from the action sequence
