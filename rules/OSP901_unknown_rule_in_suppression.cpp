@@ -1,9 +1,10 @@
 // OSP901 unknown-rule-in-suppression: an osplint directive that cannot be
 // honoured (unknown rule ID, a rule that cannot be suppressed, malformed text).
 //
-// The findings come from the suppression pass (src/engine/suppress.cpp), which
-// runs after the rules over the file's comments; this rule only carries the
-// metadata so that the rule is listed, documented and configurable.
+// The findings come from the suppression filter (src/engine/suppress.cpp),
+// which reads the file's directives before the walk and reports at the end of
+// the file; this rule only carries the metadata so that the rule is listed,
+// documented and configurable.
 #include "engine/rule.h"
 
 namespace osplint {

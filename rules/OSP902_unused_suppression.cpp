@@ -1,7 +1,7 @@
 // OSP902 unused-suppression: a rule ID in an osplint directive that silenced
 // no finding. Off by default.
 //
-// The findings come from the suppression pass (src/engine/suppress.cpp); this
+// The findings come from the suppression filter (src/engine/suppress.cpp); this
 // rule only carries the metadata.
 #include "engine/rule.h"
 
