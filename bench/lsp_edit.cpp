@@ -18,11 +18,14 @@
 // process of its own (fork), so that a peak RSS is not an earlier test's.
 // The client side keeps no copy of an opened document: didOpen is streamed
 // from the file in chunks, so the peak RSS is the server's (and the
-// transport's) own. Prints one line per figure, then the targets; the exit
-// status is 1 when a target is missed:
-//     lsp_edit: open plain 50 MB (50000411 bytes): first diagnostics in 1310.2 ms, 0 diagnostics, ...
-//     lsp_edit: edits plain 1 MB (1000042 bytes), 20 one-character edits: median 21.8 ms, p90 29.0 ms, max 31.0 ms
-//     target met:    lsp: plain 1 MB: median edit-to-diagnostics at most 30 ms (21.8 ms)
+// in-memory transport's) own. The server takes messages of up to 64 MiB:
+// a document of about 60 MB at most. Prints one line per figure, then the
+// targets (50 MB document: first diagnostics within 5 s, at most 20 bytes of
+// RSS per document byte; 1 MB document: median edit-to-diagnostics at most
+// 30 ms); the exit status is 1 when one is missed:
+//     lsp_edit: open plain 50 MB (50000096 bytes): first diagnostics in 3002.5 ms, 0 diagnostics; peak RSS ...
+//     lsp_edit: edits plain 1 MB (1004208 bytes), 20 one-character edits: median 17.3 ms, p90 23.8 ms, max 26.7 ms
+//     target met:    lsp: plain 1 MB document: median edit-to-diagnostics at most 30 ms (17.3 ms)
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -52,6 +55,10 @@ namespace {
 constexpr double kOpenTargetMs = 5000;
 constexpr double kBytesPerByteTarget = 20;
 constexpr double kEditMedianTargetMs = 30;
+// The open targets are for a large document (the server's own start-up
+// weighs on the bytes per byte of a small one), the edit target for 1 MB.
+constexpr uint64_t kOpenTargetMinBytes = 40'000'000;
+constexpr uint64_t kEditTargetMaxBytes = 1'100'000;
 
 const std::string kUri = "untitled:BENCH.MIN";
 
@@ -218,6 +225,7 @@ void test_open(const std::string& label, const std::string& path) {
         label.c_str(), static_cast<unsigned long long>(bytes), ms, n, hwm_kb / 1024.0, before_kb / 1024.0,
         per_byte);
     std::fflush(stdout);
+    if (bytes < kOpenTargetMinBytes) return;
     char buf[160];
     std::snprintf(buf, sizeof buf, "%s document: first diagnostics within %.0f s (%.2f s)", label.c_str(),
                   kOpenTargetMs / 1000, ms / 1000);
@@ -269,7 +277,7 @@ void test_edits(const std::string& label, const std::string& path, int edits) {
     std::printf("lsp_edit: edits %s (%u bytes), %d one-character edits: median %.1f ms, p90 %.1f ms, max %.1f ms\n",
                 label.c_str(), src.size(), edits, median, p90, ms.back());
     std::fflush(stdout);
-    if (src.size() <= 1'100'000) {  // the target is for a 1 MB document
+    if (src.size() <= kEditTargetMaxBytes) {
         char buf[160];
         std::snprintf(buf, sizeof buf, "%s document: median edit-to-diagnostics at most %.0f ms (%.1f ms)",
                       label.c_str(), kEditMedianTargetMs, median);

@@ -276,7 +276,11 @@ int run_check(const CheckOptions& o) {
     }
     Counts counts;
     LimitSink limit(*tail, o.max_findings, counts);
-    FoldingSink fold(limit, o.fold, counts);
+    // Folding: in the engine, which then need not build the findings it only
+    // counts; after the baseline when there is one (it must see every finding).
+    const bool baseline = !o.write_baseline.empty() || !o.baseline.empty();
+    options.fold = baseline ? 0 : o.fold;
+    FoldingSink fold(limit, baseline ? o.fold : 0, counts);
     CountingSink count(fold, counts);
     Unreadable unreadable(count);
     DiagnosticSink* head = &unreadable;

@@ -78,9 +78,12 @@ struct Diagnostic {
     // rule, program name, normalised block text and occurrence, never the line
     // number. Empty when the consumer did not ask for fingerprints.
     std::string fingerprint;
-    // Set on the finding that closes a folded run: how many findings of the
-    // same rule and message shape followed the ones reported and were folded
-    // into this one (their count, and the range of the last of them).
+    // The finding's kind: findings of one kind differ only in their numbers
+    // (a hash of the rule and of the message with its numbers left out, or of
+    // a key the rule gives). Used to fold long runs of one kind.
+    uint64_t kind = 0;
+    // Set on a finding that stands for others of its kind that are not
+    // reported one by one (folded): how many, and the range of the last.
     uint64_t folded = 0;
     std::optional<SourceRange> folded_last;
 };

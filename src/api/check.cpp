@@ -23,6 +23,7 @@ std::string check_source(const std::string& path, ByteSource& src, const Config&
     eo.held_loop_blocks = options.held_loop_blocks;
     eo.observer = options.observer;
     eo.run_rules = options.run_rules;
+    eo.fold = options.fold;
     eo.outline = options.outline;
     eo.cancel = options.cancel;
     return run_engine(path, src, config, eo, sink, options.stats);

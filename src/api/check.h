@@ -20,6 +20,7 @@ struct AnalysisOptions {
     size_t held_loop_blocks = 8192;
     BlockObserver* observer = nullptr;
     bool run_rules = true;
+    uint64_t fold = 0;  // findings of one kind shown per file before the others fold (0: off)
     FileOutline* outline = nullptr;
     const std::atomic<bool>* cancel = nullptr;
     EngineStats* stats = nullptr;

@@ -10,6 +10,7 @@
 
 #include "catalog/catalog.h"
 #include "engine/fingerprint.h"
+#include "engine/fold.h"
 #include "engine/flow.h"
 #include "engine/positions.h"
 #include "engine/suppress.h"
@@ -70,6 +71,7 @@ public:
     }
     SourceRange resolve(ByteRange r) const override { return positions_.range(r); }
     Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) override;
+    bool folded(const RuleMeta& rule, std::string_view key, ByteRange range) override;
 
 private:
     enum class Mode { Iterate, Rules };
@@ -151,6 +153,10 @@ private:
     const Block* block_ = nullptr;
     const std::vector<HeldLine>* held_ = nullptr;
     std::vector<Diagnostic> findings_;
+    std::vector<std::optional<Folder::Verdict>> verdicts_;  // per finding: decided when `folded` was asked
+    std::optional<Folder::Verdict> pending_verdict_;        // from `folded`, for the next report
+    uint64_t pending_kind_ = 0;
+    Folder folder_{0};
     Block block_buf_;           // the block read last by the walk
     Block comment_block_;       // a line parsed again for its comments
     FastLineParser comment_parser_;
@@ -173,6 +179,7 @@ std::string Walk::run() {
     stats_.lines = outline_.lines;
     positions_.set_size(outline_.size);
     fingerprints_ = sink_.wants_fingerprints();
+    folder_ = Folder(options_.fold);
 
     if (options_.run_rules) rules_ = select_rules(*options_.rules, config_, options_.only_rules);
     for (auto& r : rules_)
@@ -188,7 +195,9 @@ std::string Walk::run() {
     if (error_.empty() && !stop_ && main_.next_offset() != outline_.size)
         fail("the file changed while it was being checked: check it again");
 
-    // The findings about the directives.
+    // The findings that stand for the folded ones, then those about the directives.
+    for (Diagnostic& d : folder_.finish([&](uint64_t, ByteRange r) { return positions_.range(r); }))
+        sink_.diagnostic(std::move(d));
     for (Diagnostic& d : filter_->finish()) sink_.diagnostic(std::move(d));
     sink_.end_file(path_, error_);
     return error_;
@@ -557,9 +566,28 @@ Diagnostic& Walk::report(const RuleMeta& rule, ByteRange range, std::string mess
     d.message = std::move(message);
     d.range = positions_.range(range);
     d.line_text = abbreviate(positions_.line_text(d.range.start.line), 1000);
-    if (fingerprints_) d.fingerprint = fingerprint_for(rule.id, d.range.start.line);
+    d.kind = pending_verdict_ ? pending_kind_ : message_kind(rule.id, d.message);
     findings_.push_back(std::move(d));
+    verdicts_.push_back(pending_verdict_);
+    pending_verdict_.reset();
     return findings_.back();
+}
+
+bool Walk::folded(const RuleMeta& rule, std::string_view key, ByteRange range) {
+    pending_verdict_.reset();
+    if (!folder_.enabled()) return false;
+    // A finding a directive silences is reported (and then suppressed), never folded.
+    if (!filter_->empty()) {
+        Diagnostic probe;
+        probe.rule = std::string(rule.id);
+        probe.range.start = positions_.position(range.begin);
+        if (filter_->covers(probe)) return false;
+    }
+    pending_kind_ = keyed_kind(rule.id, key);
+    const Folder::Verdict v = folder_.next(pending_kind_, range);
+    if (v == Folder::Verdict::Count) return true;
+    pending_verdict_ = v;
+    return false;
 }
 
 std::string Walk::fingerprint_for(std::string_view rule, uint32_t line) {
@@ -580,13 +608,34 @@ const std::vector<Comment>* Walk::comments_of(const LineData& ld) {
 }
 
 void Walk::flush() {
-    std::stable_sort(findings_.begin(), findings_.end(), diagnostic_less);
-    for (Diagnostic& d : findings_) {
+    // Decide in position order (the order the findings are handed on), and
+    // give fingerprints in the order the rules reported (the occurrence count
+    // of a fingerprint follows it): only to the findings that are shown.
+    const size_t n = findings_.size();
+    std::vector<size_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return diagnostic_less(findings_[a], findings_[b]); });
+    std::vector<std::optional<SuppressedDiagnostic>> silenced(n);
+    std::vector<Folder::Verdict> verdict(n, Folder::Verdict::Show);
+    for (size_t i : order) {
         SuppressedDiagnostic s;
-        if (filter_->silence(d, s)) sink_.suppressed(std::move(s));
-        else sink_.diagnostic(std::move(d));
+        if (filter_->silence(findings_[i], s)) silenced[i] = std::move(s);
+        else verdict[i] = verdicts_[i] ? *verdicts_[i] : folder_.next(findings_[i].kind, findings_[i].range.bytes);
+    }
+    if (fingerprints_)
+        for (size_t i = 0; i < n; ++i) {
+            Diagnostic& d = silenced[i] ? silenced[i]->diagnostic : findings_[i];
+            if (silenced[i] || verdict[i] != Folder::Verdict::Count)
+                d.fingerprint = fingerprint_for(d.rule, d.range.start.line);
+        }
+    for (size_t i : order) {
+        if (silenced[i]) sink_.suppressed(std::move(*silenced[i]));
+        else if (verdict[i] == Folder::Verdict::Show) sink_.diagnostic(std::move(findings_[i]));
+        else if (verdict[i] == Folder::Verdict::Hold) folder_.hold(findings_[i].kind, std::move(findings_[i]));
     }
     findings_.clear();
+    verdicts_.clear();
 }
 
 }  // namespace

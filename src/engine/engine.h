@@ -19,9 +19,10 @@
 //      up to `held_loop_blocks` blocks is held in memory while it is
 //      iterated; a longer one is read again from the input.
 //   3. Findings are made as rules report them, checked against the file's
-//      suppression directives, and handed to a DiagnosticSink: those of a
-//      block after the block, those about a whole program after the program,
-//      those about the directives at the end of the file.
+//      suppression directives, folded when there are many of one kind
+//      (engine/fold.h), and handed to a DiagnosticSink: those of a block after
+//      the block, those about a whole program after the program, the folded
+//      ones and those about the directives at the end of the file.
 //
 // What the walk keeps: the current line and block, two modal states, the
 // merged states at the blocks where paths join, the sequence names jumped to
@@ -70,6 +71,7 @@ struct EngineOptions {
     size_t held_loop_blocks = 8192;            // a loop of this many blocks or fewer is held in memory
     BlockObserver* observer = nullptr;
     bool run_rules = true;            // false: only the walk and the observer (trace, hover)
+    uint64_t fold = 0;                // findings of one kind shown per file before the others fold (0: off)
     FileOutline* outline = nullptr;   // receives the input's outline when set
     // Set from another thread to abandon the walk (the engine then reports
     // "cancelled" as its I/O error).

@@ -64,6 +64,12 @@ public:
     // Reports a finding of `rule` at `range`; severity comes from configuration.
     // The reference stays valid until the rule returns.
     virtual Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) = 0;
+    // For rules that can report in bulk (a finding on every move): whether a
+    // finding of `rule` of the kind `key` (findings of one kind differ only in
+    // their numbers) at `range` is folded into another one and only counted
+    // (engine/fold.h). When it is, the rule does not report it and need not
+    // build its message; when it is not, the rule reports it next.
+    virtual bool folded(const RuleMeta& rule, std::string_view key, ByteRange range) = 0;
 };
 
 class Rule {

@@ -135,21 +135,27 @@ Diagnostic& SuppressionFilter::make(const RuleMeta& meta, ByteRange range, const
     return own_.back();
 }
 
+// Block entries for the finding's line first, then file entries.
+const SuppressionFilter::Entry* SuppressionFilter::find(const Diagnostic& d) const {
+    if (entries_.empty() || d.rule == "OSP001") return nullptr;
+    for (const auto& e : entries_)
+        if (!e.file_scope && e.target_line != 0 && e.target_line == d.range.start.line && e.rule == d.rule) return &e;
+    for (const auto& e : entries_)
+        if (e.file_scope && e.rule == d.rule) return &e;
+    return nullptr;
+}
+
+bool SuppressionFilter::covers(const Diagnostic& d) const { return find(d) != nullptr; }
+
 bool SuppressionFilter::silence(Diagnostic& d, SuppressedDiagnostic& out) {
-    if (entries_.empty() || d.rule == "OSP001") return false;
-    Entry* by = nullptr;
-    for (auto& e : entries_)
-        if (!e.file_scope && e.target_line != 0 && e.target_line == d.range.start.line && e.rule == d.rule) {
-            e.used = true;
-            if (!by) by = &e;
-        }
-    if (!by)
-        for (auto& e : entries_)
-            if (e.file_scope && e.rule == d.rule) {
-                e.used = true;
-                if (!by) by = &e;
-            }
+    const Entry* by = find(d);
     if (!by) return false;
+    // Every entry that would have silenced it counts as used.
+    const bool file_scope = by->file_scope;
+    for (auto& e : entries_)
+        if (e.rule == d.rule && e.file_scope == file_scope &&
+            (file_scope || (e.target_line != 0 && e.target_line == d.range.start.line)))
+            e.used = true;
     const SuppressionDirective& dir = directives_[by->directive];
     const Line& l = lines_[directive_line_[by->directive]];
     out.kind = SuppressedDiagnostic::Kind::InSource;

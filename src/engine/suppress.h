@@ -30,6 +30,9 @@ public:
     bool empty() const { return entries_.empty(); }
     // Whether a directive silences `d`; if so, moves it into `out` with the directive.
     bool silence(Diagnostic& d, SuppressedDiagnostic& out);
+    // Whether a directive would silence a finding of `d.rule` starting on
+    // `d.range.start.line` (nothing is marked used).
+    bool covers(const Diagnostic& d) const;
     // The findings about the directives (OSP901, OSP902), sorted.
     std::vector<Diagnostic> finish();
 
@@ -51,6 +54,7 @@ private:
         bool used = false;
     };
     Diagnostic& make(const RuleMeta& meta, ByteRange range, const Line& l, std::string message);
+    const Entry* find(const Diagnostic& d) const;
     bool runs(const RuleMeta& meta) const;
 
     const RuleRegistry& rules_;

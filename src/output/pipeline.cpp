@@ -4,83 +4,28 @@
 
 namespace osplint {
 
-uint64_t FoldingSink::kind_of(const Diagnostic& d) {
-    // FNV-1a over the rule, a separator and the message with each number (a
-    // run of digits and points, with its sign) read as one '#'.
-    uint64_t h = 1469598103934665603ull;
-    auto mix = [&](unsigned char c) {
-        h ^= c;
-        h *= 1099511628211ull;
-    };
-    for (char c : d.rule) mix(static_cast<unsigned char>(c));
-    mix(0x1f);
-    const std::string& m = d.message;
-    auto digit = [&](size_t i) { return i < m.size() && m[i] >= '0' && m[i] <= '9'; };
-    bool in_number = false;
-    for (size_t i = 0; i < m.size(); ++i) {
-        const char c = m[i];
-        // A sign belongs to the number it starts.
-        const bool part = digit(i) || (in_number && c == '.') || (!in_number && (c == '-' || c == '+') && digit(i + 1));
-        if (part && !in_number) mix('#');
-        if (!part) mix(static_cast<unsigned char>(c));
-        in_number = part;
-    }
-    return h;
-}
-
-void FoldingSink::begin_file(const std::string& path) {
-    kinds_.clear();
-    order_.clear();
-    next_.begin_file(path);
-}
-
 void FoldingSink::diagnostic(Diagnostic&& d) {
-    if (keep_ == 0) {
-        next_.diagnostic(std::move(d));
-        return;
-    }
-    const uint64_t key = kind_of(d);
-    auto it = kinds_.find(key);
-    if (it == kinds_.end()) {
-        if (kinds_.size() >= kMaxKinds) {
-            next_.diagnostic(std::move(d));
-            return;
+    switch (folder_.next(d.kind, d.range.bytes)) {
+        case Folder::Verdict::Show: next_.diagnostic(std::move(d)); break;
+        case Folder::Verdict::Hold: {
+            const uint64_t kind = d.kind;
+            folder_.hold(kind, std::move(d));
+            break;
         }
-        it = kinds_.emplace(key, Kind{}).first;
+        case Folder::Verdict::Count: last_[d.kind] = d.range; break;
     }
-    Kind& k = it->second;
-    if (k.shown < keep_) {
-        ++k.shown;
-        next_.diagnostic(std::move(d));
-        return;
-    }
-    if (!k.first) {
-        order_.push_back(it->first);
-        k.first = std::move(d);
-        k.last = k.first->range;
-    } else {
-        k.last = d.range;
-    }
-    ++k.folded;
 }
 
 void FoldingSink::end_file(const std::string& path, const std::string& io_error) {
-    for (const uint64_t key : order_) {
-        Kind& k = kinds_[key];
-        Diagnostic d = std::move(*k.first);
-        if (k.folded > 1) {
-            d.folded = k.folded - 1;
-            d.folded_last = k.last;
-            counts_.folded += d.folded;
-            d.notes.push_back({fmt::format("and {} more like this in this file, the last on line {} (shown as one; "
-                                           "--fold 0 reports each)",
-                                           d.folded, k.last.start.line),
-                               k.last});
-        }
+    auto resolve = [&](uint64_t kind, ByteRange r) {
+        auto it = last_.find(kind);
+        return it != last_.end() ? it->second : SourceRange{r, {}, {}};
+    };
+    for (Diagnostic& d : folder_.finish(resolve)) {
+        counts_.folded += d.folded;
         next_.diagnostic(std::move(d));
     }
-    kinds_.clear();
-    order_.clear();
+    last_.clear();
     next_.end_file(path, io_error);
 }
 

@@ -1,10 +1,11 @@
 // Stages between the engine and the report writers: each one a DiagnosticSink
 // that passes what it keeps on to the next. The CLI chains them:
 //
-//   engine -> baseline (filter or record) -> counting -> folding -> limit -> writer(s)
+//   engine -> baseline (filter or record) -> counting -> [folding] -> limit -> writer(s)
 //
-// Counting sees every finding, so the summary and the exit code count the
-// findings that folding and the limit show only as a number.
+// (folding happens in the engine unless a baseline needs every finding
+// first). Counting sees every finding, or the count a folded finding carries,
+// so the summary and the exit code count the findings shown only as a number.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "osplint/diagnostic.h"
+#include "engine/fold.h"
 #include "output/writer.h"
 
 namespace osplint {
@@ -29,7 +31,9 @@ public:
         next_.begin_file(path);
     }
     void diagnostic(Diagnostic&& d) override {
-        counts_.add(d.severity);
+        // A finding the engine folded others into stands for them too.
+        counts_.add(d.severity, 1 + d.folded);
+        counts_.folded += d.folded;
         next_.diagnostic(std::move(d));
     }
     void suppressed(SuppressedDiagnostic&& s) override {
@@ -46,38 +50,24 @@ private:
     Counts& counts_;
 };
 
-// Folds the findings of one kind (the same rule, the same message up to its
-// numbers) beyond the first `keep` of a file into one: the first of them,
-// with the count of the others and the place of the last (`--fold N`). A
-// wrong work offset in a 100 MB program then reads as a few findings and "and
-// 980,000 more like this", in every format. The folded finding comes at the
-// end of the file's report.
+// Folds the findings of one kind beyond the first `keep` of a file into one
+// (engine/fold.h) after a baseline has seen them all. Without a baseline the
+// engine folds as the rules report (AnalysisOptions::fold), which spares
+// building the findings that are only counted.
 class FoldingSink final : public DiagnosticSink {
 public:
-    FoldingSink(DiagnosticSink& next, uint64_t keep, Counts& counts) : next_(next), keep_(keep), counts_(counts) {}
+    FoldingSink(DiagnosticSink& next, uint64_t keep, Counts& counts) : next_(next), folder_(keep), counts_(counts) {}
     bool wants_fingerprints() const override { return next_.wants_fingerprints(); }
-    void begin_file(const std::string& path) override;
+    void begin_file(const std::string& path) override { next_.begin_file(path); }
     void diagnostic(Diagnostic&& d) override;
     void suppressed(SuppressedDiagnostic&& s) override { next_.suppressed(std::move(s)); }
     void end_file(const std::string& path, const std::string& io_error) override;
 
-    // The kind of a finding: a hash of its rule and of its message with every
-    // number written as '#'.
-    static uint64_t kind_of(const Diagnostic& d);
-    static constexpr size_t kMaxKinds = 4096;  // kinds followed per file; others are never folded
-
 private:
-    struct Kind {
-        uint64_t shown = 0;
-        uint64_t folded = 0;
-        std::optional<Diagnostic> first;  // the first folded finding
-        SourceRange last;
-    };
     DiagnosticSink& next_;
-    uint64_t keep_;
+    Folder folder_;
     Counts& counts_;
-    std::unordered_map<uint64_t, Kind> kinds_;
-    std::vector<uint64_t> order_;  // kinds in the order of their first folded finding
+    std::unordered_map<uint64_t, SourceRange> last_;  // the range of the last folded finding of each kind
 };
 
 // Shows at most `max` findings of a file (`--max-findings N`); the others are

@@ -10,6 +10,7 @@
 
 #include "engine/fingerprint.h"
 #include "engine/flow.h"
+#include "engine/fold.h"
 #include "engine/suppress.h"
 #include "rules/registry.h"
 #include "semantics/eval.h"
@@ -67,9 +68,11 @@ public:
         const std::string program = program_ ? program_->name : std::string();
         const int occurrence = ++occurrences_[fmt::format("{}|{}|{}", rule.id, program, norm)];
         d.fingerprint = make_fingerprint(rule.id, program, norm, occurrence);
+        d.kind = message_kind(rule.id, d.message);
         diagnostics.push_back(std::move(d));
         return diagnostics.back();
     }
+    bool folded(const RuleMeta&, std::string_view, ByteRange) override { return false; }  // never folds
     void set_program(const Program* p, const std::unordered_map<std::string, std::vector<uint32_t>>* labels) {
         program_ = p;
         labels_ = labels;

@@ -435,3 +435,41 @@ TEST_CASE("engine: the observer sees every block with its states, and can stop t
     check_source("r.min", again, Config{}, options, sink);
     CHECK(stop.last == 3);
 }
+
+TEST_CASE("engine: folding keeps the first findings of a kind, and one that stands for the rest") {
+    Config config;
+    config.travel['Z'] = TravelLimit{-100, 100};
+    std::string text = "O1\nG90 G0 X0 Y0\n";
+    for (int i = 0; i < 50; ++i) text += "G1 Z-" + std::to_string(200 + i) + ". (" + std::to_string(i) + ")\n";
+    text += "X5000.\nM30\n";
+    const FileResult all = check_text("f.min", text, config);
+    AnalysisOptions options;
+    options.fold = 3;
+    const FileResult folded = check_text("f.min", text, config, options);
+    size_t z_all = 0;
+    for (const auto& d : all.diagnostics) z_all += d.rule == "OSP301" && d.message.find(" Z ") != std::string::npos;
+    CHECK(z_all == 50);
+    uint64_t represented = 0;
+    size_t z_shown = 0;
+    for (const auto& d : folded.diagnostics)
+        if (d.rule == "OSP301" && d.message.find(" Z ") != std::string::npos) {
+            ++z_shown;
+            represented += 1 + d.folded;
+            if (d.folded) {
+                CHECK(d.folded == 46);
+                REQUIRE(d.folded_last.has_value());
+                CHECK(d.folded_last->start.line == 52);
+                CHECK(d.notes.back().message.find("and 46 more like this") != std::string::npos);
+            }
+        }
+    CHECK(z_shown == 4);
+    CHECK(represented == 50);
+    // Findings of other kinds are not folded with them; fingerprints of the
+    // findings shown are those of an unfolded run.
+    for (const auto& d : folded.diagnostics) {
+        if (d.folded) continue;
+        bool same = false;
+        for (const auto& e : all.diagnostics) same = same || (e.fingerprint == d.fingerprint && e.message == d.message);
+        CHECK_MESSAGE(same, d.message);
+    }
+}
