@@ -19,6 +19,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// An analysis stopped because its text is outdated.
+struct Outdated {};
+
 const json& field(const json& obj, const char* key) {
     if (!obj.is_object()) throw std::invalid_argument("params must be an object");
     auto it = obj.find(key);
@@ -99,6 +102,7 @@ Server::~Server() {
     {
         std::lock_guard lock(m_);
         stop_ = true;
+        for (auto& [uri, d] : docs_) d.outdate();  // a running analysis stops
     }
     cv_.notify_all();
     if (worker_.joinable()) worker_.join();
@@ -287,6 +291,7 @@ void Server::did_open(const json& params) {
     if (auto it = docs_.find(uri); it != docs_.end()) {
         for (const auto& p : it->second.pending)
             send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+        it->second.outdate();
     }
     docs_[uri] = std::move(d);
     cv_.notify_all();
@@ -309,6 +314,7 @@ void Server::did_change(const json& params) {
     std::string text = d.text;
     for (const auto& c : changes) apply_change(text, c, encoding_);
     d.text = std::move(text);
+    d.outdate();
     if (td.contains("version") && td["version"].is_number_integer())
         d.version = td["version"].get<int64_t>();
     else
@@ -325,6 +331,7 @@ void Server::did_close(const json& params) {
     if (it == docs_.end()) return;
     for (const auto& p : it->second.pending)
         send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+    it->second.outdate();
     docs_.erase(it);
     send(make_notification("textDocument/publishDiagnostics", {{"uri", uri}, {"diagnostics", json::array()}}));
     cv_.notify_all();
@@ -399,6 +406,7 @@ void Server::worker_loop() {
         }
         job.pending = std::move(pick->pending);
         pick->pending.clear();
+        job.outdated = pick->outdated;
         lock.unlock();
         try {
             run_job(job);
@@ -463,8 +471,12 @@ void Server::update_model(Model& m, Job& job) {
     AnalysisOptions opts;
     opts.known_programs = &m.known;
     opts.outline = &m.doc.outline;
+    opts.cancel = job.outdated.get();
     MemorySource src(m.doc.source.text());
-    check_source(m.doc.path, src, *m.config, opts, collect);
+    if (check_source(m.doc.path, src, *m.config, opts, collect) == kCancelled) {
+        m.version = -1;  // half analysed: the analysis of the newer text follows
+        throw Outdated{};
+    }
     // The same findings as `osplint check`: directives in the file apply.
     m.diagnostics = std::move(collect.take().diagnostics);
     if (options_.log_timing) {
@@ -485,6 +497,22 @@ void Server::run_job(Job& job) {
     if (job.has_text) {
         try {
             update_model(m, job);
+        } catch (const Outdated&) {
+            // A newer text arrived during the analysis: the requests that
+            // waited wait for the analysis of that one.
+            if (options_.log_timing) log(job.uri + " v" + std::to_string(job.version) + ": outdated, analysis stopped");
+            std::lock_guard lock(m_);
+            if (auto it = docs_.find(job.uri); it != docs_.end() && it->second.generation == job.generation) {
+                auto& pending = it->second.pending;
+                pending.insert(pending.begin(), std::make_move_iterator(job.pending.begin()),
+                               std::make_move_iterator(job.pending.end()));
+                it->second.dirty = true;
+                cv_.notify_all();
+            } else {
+                for (const auto& p : job.pending)
+                    send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+            }
+            return;
         } catch (const std::exception& e) {
             // Never leave a document without a model: keep the text, report.
             log(std::string("analysis failed: ") + e.what());

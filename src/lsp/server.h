@@ -97,6 +97,13 @@ private:
         bool dirty = true;
         std::chrono::steady_clock::time_point changed{};
         std::vector<Pending> pending;
+        // Set when the text this flag was handed out with is outdated: an
+        // analysis of it stops (the engine checks the flag as it walks).
+        std::shared_ptr<std::atomic<bool>> outdated = std::make_shared<std::atomic<bool>>(false);
+        void outdate() {
+            outdated->store(true);
+            outdated = std::make_shared<std::atomic<bool>>(false);
+        }
     };
 
     // The worker's model of one document.
@@ -118,6 +125,7 @@ private:
         bool has_text = false;
         std::string text;
         std::vector<Pending> pending;
+        std::shared_ptr<std::atomic<bool>> outdated;
     };
 
     void handle(std::string_view body);

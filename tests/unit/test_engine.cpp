@@ -473,3 +473,19 @@ TEST_CASE("engine: folding keeps the first findings of a kind, and one that stan
         CHECK_MESSAGE(same, d.message);
     }
 }
+
+TEST_CASE("engine: a set cancel flag stops the walk") {
+    std::string text = "O1\n";
+    for (int i = 0; i < 20000; ++i) text += "G1 X1. Y2.\n";
+    text += "M30\n";
+    std::atomic<bool> cancel{true};
+    AnalysisOptions options;
+    options.cancel = &cancel;
+    EngineStats stats;
+    options.stats = &stats;
+    MemorySource src(text);
+    ResultCollector sink;
+    CHECK(check_source("c.min", src, Config{}, options, sink) == kCancelled);
+    CHECK(stats.blocks_parsed < 2048);
+    CHECK(sink.take().io_error == kCancelled);
+}

@@ -651,3 +651,29 @@ TEST_CASE("lsp: $/cancelRequest: a waiting request is answered or cancelled, nev
     CHECK(s.result("shutdown", nullptr).is_null());
     for (const auto& m : s.seen()) CHECK_FALSE((m.contains("id") && m["id"] == 12345));
 }
+
+TEST_CASE("lsp: an edit during a long analysis stops it; requests that waited are answered for the new text") {
+    ServerOptions options = Session::quiet();
+    std::atomic<int> cancelled{0};
+    options.log_timing = true;
+    options.log = [&](const std::string& m) {
+        if (m.find("outdated") != std::string::npos) ++cancelled;
+    };
+    Session s(options);
+    s.initialize();
+    // A few megabytes: the walk takes long enough for the edit to arrive during it.
+    std::string text = "O1\n";
+    while (text.size() < (8u << 20)) text += "G1 X10. Y20. Z-1. F300\nX11. Y21.\n";
+    text += "M30\n";
+    s.open(kUri, text);
+    const int hover = s.request_async("textDocument/hover", {{"textDocument", td(kUri)}, {"position", pos(0, 0)}});
+    s.change(kUri, 2, json::array({{{"text", "O1\nCALL OZAGR PR=5 PZ=-20 PI=12 M52\nM30\n"}}}));
+    const json diags = s.diagnostics(kUri, 2);
+    CHECK(find_code(diags["diagnostics"], "OSP104"));
+    const json h = s.response(hover);
+    CHECK(h.contains("result"));
+    // Version 1 was never published: its analysis was stopped or its result dropped.
+    for (const auto& m : s.seen())
+        if (m.value("method", "") == "textDocument/publishDiagnostics") CHECK(m["params"]["version"] == 2);
+    MESSAGE("analyses stopped: " << cancelled.load());
+}
