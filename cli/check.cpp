@@ -15,6 +15,8 @@
 #include <mutex>
 #include <thread>
 
+#include <fmt/format.h>
+
 #include "output/baseline.h"
 #include "support/errors.h"
 #include "api/check.h"
@@ -48,6 +50,8 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
                    "Record the current findings in this baseline file (they are then accepted)");
     cmd.add_option("--max-findings", o.max_findings,
                    "Show at most N findings per file; the others are counted (default: no limit)");
+    cmd.add_flag("--engine-stats", o.engine_stats,
+                 "Print what the analysis did for each file (lines, loops, sweeps, ...) on stderr");
     cmd.add_option("--fold", o.fold,
                    "Show at most N findings of one kind (rule and message) per file, and the others as a count "
                    "(default 10; 0 shows every one)");
@@ -87,6 +91,14 @@ void validate_selection(const CheckOptions& o) {
         }
 }
 
+std::string describe(const EngineStats& s) {
+    return fmt::format("{} bytes, {} lines, {} programs; outline parsed {} lines; walk parsed {} blocks ({} by "
+                       "tree-sitter), {} transfers; {} loops ({} held in memory), {} sweeps without the rules, {} walked "
+                       "with the rules after one sweep",
+                       s.bytes, s.lines, s.programs, s.outline_lines_parsed, s.blocks_parsed, s.fallback_lines,
+                       s.transfers, s.loops, s.held_loops, s.loop_sweeps, s.speculative_walks);
+}
+
 // Checks every file on a pool of worker threads, each file's findings handed
 // on through its channel of `out` as the walk makes them: the report is in
 // path order and identical whatever the number of workers, and memory does not
@@ -94,7 +106,7 @@ void validate_selection(const CheckOptions& o) {
 // started (the files are then checked by those that were).
 std::string check_files(const std::vector<std::string>& files, const std::vector<std::shared_ptr<Config>>& configs,
                         const std::string& stdin_name, int stdin_fd, const AnalysisOptions& options, unsigned jobs,
-                        OrderedOutput& out, bool progress) {
+                        OrderedOutput& out, bool progress, bool report_stats) {
     std::atomic<size_t> next{0};
     std::atomic<size_t> done{0};
     std::mutex mu;
@@ -104,8 +116,15 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
             DiagnosticSink& sink = out.channel(i);
             const std::string path = files[i] == "-" ? stdin_name : files[i];
             try {
-                if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], options, sink);
-                else check_path(files[i], *configs[i], options, sink);
+                AnalysisOptions mine = options;
+                EngineStats stats;
+                if (report_stats) mine.stats = &stats;
+                if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
+                else check_path(files[i], *configs[i], mine, sink);
+                if (report_stats) {
+                    std::lock_guard<std::mutex> lock(mu);
+                    std::cerr << "osplint: " << path << ": " << describe(stats) << "\n";
+                }
             } catch (const std::exception& e) {
                 sink.end_file(path, std::string("internal error while checking this file (please report it): ") +
                                         e.what());
@@ -296,7 +315,8 @@ int run_check(const CheckOptions& o) {
     }
     OrderedOutput ordered(*head, files.size());
     const bool progress = files.size() > 20 && isatty(STDERR_FILENO) && !isatty(STDOUT_FILENO);
-    const std::string pool_error = check_files(files, configs, stdin_name, stdin_fd, options, o.jobs, ordered, progress);
+    const std::string pool_error =
+        check_files(files, configs, stdin_name, stdin_fd, options, o.jobs, ordered, progress, o.engine_stats);
     if (stdin_fd >= 0) ::close(stdin_fd);
     writer->finish(counts);
     if (log) log->finish(counts);

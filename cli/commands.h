@@ -23,6 +23,7 @@ struct CheckOptions {
     std::string write_baseline;  // --write-baseline: record the current findings there
     uint64_t max_findings = 0;   // --max-findings: per file; 0 = no limit
     uint64_t fold = 10;          // --fold: findings of one kind shown per file before the others fold; 0 = off
+    bool engine_stats = false;   // --engine-stats: what the engine did, per file, on stderr
 };
 void add_check_options(CLI::App& cmd, CheckOptions& o);
 int run_check(const CheckOptions& o);

@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP001", "syntax-error", Severity::Error,
                          "The block does not parse as OSP part-program syntax"};
 
-class SyntaxErrorRule final : public Rule {
+class SyntaxErrorRule final : public RuleBase<SyntaxErrorRule> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

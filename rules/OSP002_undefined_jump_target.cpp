@@ -13,7 +13,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP002", "undefined-jump-target", Severity::Error,
                          "GOTO, IF or an N reference names a sequence name the program does not define"};
 
-class UndefinedJumpTarget final : public Rule {
+class UndefinedJumpTarget final : public RuleBase<UndefinedJumpTarget> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

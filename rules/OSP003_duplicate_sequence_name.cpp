@@ -23,7 +23,7 @@ constexpr RuleMeta kMeta{"OSP003", "duplicate-sequence-name", Severity::Warning,
 constexpr size_t kKeepFirst = 100000;
 constexpr size_t kMaxDigits = 8;
 
-class DuplicateSequenceName final : public Rule {
+class DuplicateSequenceName final : public RuleBase<DuplicateSequenceName> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     void begin_program(RuleContext&, const ProgramView&) override {

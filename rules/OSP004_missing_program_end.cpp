@@ -18,7 +18,7 @@ std::string upper_extension(std::string_view path) {
     return ext;
 }
 
-class MissingProgramEnd final : public Rule {
+class MissingProgramEnd final : public RuleBase<MissingProgramEnd> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     void begin_program(RuleContext&, const ProgramView&) override {

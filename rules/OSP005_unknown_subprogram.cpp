@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP005", "unknown-subprogram", Severity::Info,
                          "CALL/MODIN names a program that is neither in the catalog nor in the checked files"};
 
-class UnknownSubprogram final : public Rule {
+class UnknownSubprogram final : public RuleBase<UnknownSubprogram> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

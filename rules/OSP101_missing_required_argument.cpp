@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP101", "missing-required-argument", Severity::Error,
                          "A macro call lacks an argument the manual marks as required (alarm when omitted)"};
 
-class MissingRequiredArgument final : public Rule {
+class MissingRequiredArgument final : public RuleBase<MissingRequiredArgument> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

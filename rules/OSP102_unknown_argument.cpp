@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP102", "unknown-argument", Severity::Warning,
                          "A macro call passes an argument the macro does not take"};
 
-class UnknownArgument final : public Rule {
+class UnknownArgument final : public RuleBase<UnknownArgument> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -110,7 +110,7 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
     }
 }
 
-class InvalidArgumentValue final : public Rule {
+class InvalidArgumentValue final : public RuleBase<InvalidArgumentValue> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP104", "m52-on-call-line", Severity::Error,
                          "M52 on the CALL/MODIN line of a macro is ignored; command PM=52"};
 
-class M52OnCallLine final : public Rule {
+class M52OnCallLine final : public RuleBase<M52OnCallLine> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

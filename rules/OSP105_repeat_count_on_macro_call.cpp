@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP105", "repeat-count-on-macro-call", Severity::Error,
                          "A Q repeat count on CALL/MODIN of a macro that does not support repeated calls"};
 
-class RepeatCount final : public Rule {
+class RepeatCount final : public RuleBase<RepeatCount> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP106", "m53-without-pt", Severity::Error,
                          "M53 is in effect for a macro call without PT (the macros do not read G71)"};
 
-class M53WithoutPt final : public Rule {
+class M53WithoutPt final : public RuleBase<M53WithoutPt> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -8,7 +8,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP107", "og87c-no-shift", Severity::Error,
                          "OG87C has no non-zero tool shift in the positioning plane (alarm)"};
 
-class NoShift final : public Rule {
+class NoShift final : public RuleBase<NoShift> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

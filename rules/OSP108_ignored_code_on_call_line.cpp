@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP108", "ignored-code-on-call-line", Severity::Warning,
                          "M3/M4/M7/M8/M12 on a CALL/MODIN line, or M7/M8/M12 on the G114 block, may be ignored"};
 
-class IgnoredCode final : public Rule {
+class IgnoredCode final : public RuleBase<IgnoredCode> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

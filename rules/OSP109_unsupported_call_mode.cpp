@@ -26,7 +26,7 @@ std::string documented_forms(const MacroSpec& s) {
     return out;
 }
 
-class UnsupportedCallMode final : public Rule {
+class UnsupportedCallMode final : public RuleBase<UnsupportedCallMode> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

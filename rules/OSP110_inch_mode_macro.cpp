@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP110", "inch-mode-macro", Severity::Error,
                          "A macro that works in mm only is used while inch units are in effect"};
 
-class InchModeMacro final : public Rule {
+class InchModeMacro final : public RuleBase<InchModeMacro> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP111", "g91-absolute-cycle-axis", Severity::Info,
                          "A macro called under G91: its cycle-axis arguments are still absolute"};
 
-class G91AbsoluteCycleAxis final : public Rule {
+class G91AbsoluteCycleAxis final : public RuleBase<G91AbsoluteCycleAxis> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

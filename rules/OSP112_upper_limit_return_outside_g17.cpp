@@ -17,7 +17,7 @@ const ActionStep* g17_only_return(const MacroSpec& s) {
     return nullptr;
 }
 
-class UpperLimitReturnOutsideG17 final : public Rule {
+class UpperLimitReturnOutsideG17 final : public RuleBase<UpperLimitReturnOutsideG17> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -8,7 +8,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP113", "shift-without-axis", Severity::Warning,
                          "A shift argument has no axis in the plane in effect (blank in the plane table)"};
 
-class ShiftWithoutAxis final : public Rule {
+class ShiftWithoutAxis final : public RuleBase<ShiftWithoutAxis> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

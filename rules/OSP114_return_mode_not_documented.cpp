@@ -8,7 +8,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP114", "return-mode-not-documented", Severity::Error,
                          "M53/M54 on the call of a macro whose manual documents no return-level behaviour"};
 
-class ReturnModeNotDocumented final : public Rule {
+class ReturnModeNotDocumented final : public RuleBase<ReturnModeNotDocumented> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

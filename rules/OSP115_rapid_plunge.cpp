@@ -23,7 +23,7 @@ std::optional<std::pair<const ActionStep*, std::string>> rapid_plunge(const Macr
     return std::nullopt;
 }
 
-class RapidPlunge final : public Rule {
+class RapidPlunge final : public RuleBase<RapidPlunge> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -18,7 +18,7 @@ std::string forbidding_source(const MacroSpec& s) {
     return macro::source_ref(s, "");
 }
 
-class G60WithNcyl final : public Rule {
+class G60WithNcyl final : public RuleBase<G60WithNcyl> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

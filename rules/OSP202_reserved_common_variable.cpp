@@ -31,7 +31,7 @@ struct Clobber {
     uint32_t line = 0;
 };
 
-class ReservedCommonVariable final : public Rule {
+class ReservedCommonVariable final : public RuleBase<ReservedCommonVariable> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

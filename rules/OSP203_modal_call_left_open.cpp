@@ -11,7 +11,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP203", "modal-call-left-open", Severity::Warning,
                          "MODIN without MODOUT before the program ends, or MODIN while another MODIN is active"};
 
-class ModalCallLeftOpen final : public Rule {
+class ModalCallLeftOpen final : public RuleBase<ModalCallLeftOpen> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -24,7 +24,7 @@ std::string cancel_hint(const RuleContext& ctx, const ActiveCycle& c) {
     return "G80";
 }
 
-class FixedCycleNotCancelled final : public Rule {
+class FixedCycleNotCancelled final : public RuleBase<FixedCycleNotCancelled> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -18,7 +18,7 @@ std::string num(double v) { return macro::format_number(v); }
 // Back boring goes from below the hole upwards: its order is the other way round.
 bool reversed_cycle(int code) { return code == 79 || code == 87; }
 
-class CyclePointOrder final : public Rule {
+class CyclePointOrder final : public RuleBase<CyclePointOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -24,7 +24,7 @@ const Word* g_word(const Block& b, double code) {
     return nullptr;
 }
 
-class TappingWithG99 final : public Rule {
+class TappingWithG99 final : public RuleBase<TappingWithG99> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -9,7 +9,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP207", "code-not-alone", Severity::Error,
                          "M843 or M845 in a block with any other word"};
 
-class CodeNotAlone final : public Rule {
+class CodeNotAlone final : public RuleBase<CodeNotAlone> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

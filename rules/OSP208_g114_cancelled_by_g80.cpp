@@ -10,7 +10,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP208", "g114-cancelled-by-g80", Severity::Warning,
                          "G114 (OG84L) cancelled by G80: the spindle and feed overrides stay disabled"};
 
-class G114CancelledByG80 final : public Rule {
+class G114CancelledByG80 final : public RuleBase<G114CancelledByG80> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

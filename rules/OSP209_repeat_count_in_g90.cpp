@@ -17,7 +17,7 @@ std::string cite(const std::string& src) {
 constexpr RuleMeta kMeta{"OSP209", "repeat-count-in-g90", Severity::Warning,
                          "L (repeat count) on a fixed cycle in G90: valid only under G91"};
 
-class RepeatCountInG90 final : public Rule {
+class RepeatCountInG90 final : public RuleBase<RepeatCountInG90> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

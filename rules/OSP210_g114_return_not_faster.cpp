@@ -10,7 +10,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP210", "g114-return-not-faster", Severity::Warning,
                          "G114 (OG84L) return rate FA omitted or not faster than F"};
 
-class G114ReturnNotFaster final : public Rule {
+class G114ReturnNotFaster final : public RuleBase<G114ReturnNotFaster> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

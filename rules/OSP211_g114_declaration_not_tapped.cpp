@@ -20,7 +20,7 @@ bool positions_hole(const Block& b) {
     return false;
 }
 
-class G114DeclarationNotTapped final : public Rule {
+class G114DeclarationNotTapped final : public RuleBase<G114DeclarationNotTapped> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     // A pending declaration is settled on the block that ends its cycle, so

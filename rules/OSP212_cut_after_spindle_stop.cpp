@@ -23,7 +23,7 @@ bool has_axis(const Block& b) {
     return false;
 }
 
-class CutAfterSpindleStop final : public Rule {
+class CutAfterSpindleStop final : public RuleBase<CutAfterSpindleStop> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
 

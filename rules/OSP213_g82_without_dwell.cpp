@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP213", "g82-without-dwell", Severity::Warning,
                          "G82 without P: no dwell at the hole bottom"};
 
-class G82WithoutDwell final : public Rule {
+class G82WithoutDwell final : public RuleBase<G82WithoutDwell> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

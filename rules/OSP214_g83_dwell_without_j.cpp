@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP214", "g83-dwell-without-j", Severity::Warning,
                          "P (dwell) on G83 without J: the dwell is not performed"};
 
-class G83DwellWithoutJ final : public Rule {
+class G83DwellWithoutJ final : public RuleBase<G83DwellWithoutJ> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

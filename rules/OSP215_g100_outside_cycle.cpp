@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP215", "g100-outside-cycle", Severity::Warning,
                          "G100 outside a fixed cycle is ignored"};
 
-class G100OutsideCycle final : public Rule {
+class G100OutsideCycle final : public RuleBase<G100OutsideCycle> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -10,7 +10,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP216", "sync-tap-not-bracketed", Severity::Warning,
                          "M843 not closed by M845 before the program ends, or M3/M4/M5 inside M843 ... M845"};
 
-class SyncTapNotBracketed final : public Rule {
+class SyncTapNotBracketed final : public RuleBase<SyncTapNotBracketed> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

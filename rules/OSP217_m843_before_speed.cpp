@@ -7,7 +7,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP217", "m843-before-speed", Severity::Warning,
                          "M843 (synchronised tapping) before any S has been commanded"};
 
-class M843BeforeSpeed final : public Rule {
+class M843BeforeSpeed final : public RuleBase<M843BeforeSpeed> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -9,7 +9,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP218", "g114-left-hand", Severity::Warning,
                          "G114 (OG84L) with the spindle in reverse: there is no left-hand version"};
 
-class G114LeftHand final : public Rule {
+class G114LeftHand final : public RuleBase<G114LeftHand> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -20,7 +20,7 @@ constexpr RuleMeta kMeta{"OSP219", "cycle-missing-address", Severity::Error,
 
 bool is_plane_axis_name(std::string_view n) { return n == "X" || n == "Y" || n == "Z"; }
 
-class CycleMissingAddress final : public Rule {
+class CycleMissingAddress final : public RuleBase<CycleMissingAddress> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

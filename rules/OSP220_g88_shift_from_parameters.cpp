@@ -8,7 +8,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP220", "g88-shift-from-parameters", Severity::Warning,
                          "G88 without I/J: the relief shift comes from the setting parameters"};
 
-class G88ShiftFromParameters final : public Rule {
+class G88ShiftFromParameters final : public RuleBase<G88ShiftFromParameters> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -39,7 +39,7 @@ ByteRange where_for(const BlockView& v, const Envelope& env, const MotionPoint& 
     return v.block.range;
 }
 
-class CycleAxisOutOfTravel final : public Rule {
+class CycleAxisOutOfTravel final : public RuleBase<CycleAxisOutOfTravel> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     // Plain moves are checked against the travel limits, when there are any.

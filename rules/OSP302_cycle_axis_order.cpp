@@ -85,7 +85,7 @@ bool is_point(const std::string& text, const MacroSpec& spec) {
     return names == 1;
 }
 
-class CycleAxisOrder final : public Rule {
+class CycleAxisOrder final : public RuleBase<CycleAxisOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

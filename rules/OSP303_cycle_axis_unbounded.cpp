@@ -46,7 +46,7 @@ void report_unbounded_envelope(RuleContext& ctx, const BlockView& v, const Envel
                        std::nullopt});
 }
 
-class CycleAxisUnbounded final : public Rule {
+class CycleAxisUnbounded final : public RuleBase<CycleAxisUnbounded> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

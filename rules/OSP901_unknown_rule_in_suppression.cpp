@@ -13,7 +13,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP901", "unknown-rule-in-suppression", Severity::Warning,
                          "An osplint suppression directive names an unknown or unsuppressible rule, or is malformed"};
 
-class UnknownRuleInSuppression final : public Rule {
+class UnknownRuleInSuppression final : public RuleBase<UnknownRuleInSuppression> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -11,7 +11,7 @@ namespace {
 constexpr RuleMeta kMeta{"OSP902", "unused-suppression", Severity::Info,
                          "An osplint suppression directive silences no finding", false};
 
-class UnusedSuppression final : public Rule {
+class UnusedSuppression final : public RuleBase<UnusedSuppression> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_moves(const Config&) const override { return false; }

@@ -91,6 +91,7 @@ private:
     void leave(const Block& b, const LineRef& line);
     void contribute_name(std::string_view name, uint32_t offset);
     void contribute_offset(uint32_t target, uint32_t offset);
+    void join_reached(uint32_t target, uint32_t offset);
     void set_state(const MaybeState& s);
     void check(const BlockView& view, const LineRef& line, bool plain);
 
@@ -148,6 +149,39 @@ private:
     uint32_t loop_start_ = 0;
     bool loop_changed_ = false;
     std::map<uint32_t, MaybeState> join_;  // accumulated states at the joins inside the loop
+    // A sweep that reaches a probe with the state the previous sweep had
+    // there, while no join from there on changed since the previous sweep
+    // entered it, would repeat the rest of that sweep: it stops there.
+    struct JoinStamps {
+        uint64_t entered = 0;  // when a sweep last entered it
+        uint64_t changed = 0;  // when what flows into it last changed
+    };
+    static constexpr uint32_t kProbeBlocks = 2048;
+    std::map<uint32_t, MaybeState> probes_;  // the state flowing into a probe block, in the last sweep that passed it
+    std::map<uint32_t, JoinStamps> join_stamps_;
+    uint64_t stamp_ = 0;
+    bool converged(uint32_t offset, uint32_t index, bool check);
+
+    // A loop too long to hold is walked with the rules as soon as one sweep
+    // has brought the states where paths join back into it: if that walk
+    // changes none of them, its findings stand; if it does, they are dropped,
+    // the rules are put back as they were, and the sweeps go on.
+    struct Speculation {
+        std::vector<std::unique_ptr<Rule>> rules;
+        Folder folder{0};
+        std::vector<bool> used;
+        OccurrenceCounter occurrences;
+    };
+    static constexpr size_t kMaxSpeculativeFindings = 20000;
+    bool speculating_ = false;
+    bool speculation_overflow_ = false;
+    std::vector<std::pair<std::optional<Diagnostic>, std::optional<SuppressedDiagnostic>>> speculative_;
+    bool walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end, const MaybeState& entry);
+    void deliver(Diagnostic&& d);
+    void deliver(SuppressedDiagnostic&& s);
+    void mark_changed(uint32_t offset) {
+        if (in_loop_) join_stamps_[offset].changed = ++stamp_;
+    }
 
     // --- findings of the block (or program) in hand
     const Block* block_ = nullptr;
@@ -327,15 +361,19 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
         held_text.append(l.terminator);
     };
     loop_changed_ = false;
+    probes_.clear();
+    join_stamps_.clear();
     set_state(entry);
     hold(head, head_line);
+    converged(start, 0, false);
     visit(head, head_line, Mode::Iterate);
     Block b;
     LineRef line;
-    while (!stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end()) {
+    for (uint32_t index = 1; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
         if (!read(b, line)) break;
         loop_head(b, line.start, extent);
         hold(b, line);
+        converged(line.start, index, false);
         visit(b, line, Mode::Iterate);
     }
     const uint64_t end = main_.next_offset();
@@ -343,6 +381,16 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     ++stats_.loop_sweeps;
     if (holding) ++stats_.held_loops;
 
+    // A loop read again from the input: the rules walk it at once, if that turns out right.
+    const bool speculate = !holding && loop_changed_ && !options_.observer && !stop_;
+    if (speculate && walk_speculatively(start, start_line, end, entry)) {
+        ++stats_.speculative_walks;
+        in_loop_ = false;
+        join_.clear();
+        probes_.clear();
+        join_stamps_.clear();
+        return;
+    }
     // Iterate until the states where paths join stop changing.
     while (!stop_ && loop_changed_) {
         loop_changed_ = false;
@@ -360,6 +408,8 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     if (holding && !stop_) main_.seek(end, end_line);
     in_loop_ = false;
     join_.clear();
+    probes_.clear();
+    join_stamps_.clear();
 }
 
 void Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode) {
@@ -369,8 +419,10 @@ void Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode
         held_ = &held;
     }
     size_t at = 0;
+    uint32_t index = 0;
     for (const HeldLine& h : held) {
         if (stop_) break;
+        if (mode == Mode::Iterate && converged(h.start, index++, true)) break;
         const std::string_view t(text.data() + at, h.text_size);
         const std::string_view term(text.data() + at + h.text_size, h.terminator_size);
         at += h.text_size + h.terminator_size;
@@ -384,8 +436,9 @@ void Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
     main_.seek(start, start_line);
     Block b;
     LineRef line;
-    while (!stop_ && main_.next_offset() < end) {
+    for (uint32_t index = 0; !stop_ && main_.next_offset() < end; ++index) {
         if (!read(b, line)) break;
+        if (mode == Mode::Iterate && converged(line.start, index, true)) break;
         visit(b, line, mode);
     }
 }
@@ -422,6 +475,7 @@ void Walk::enter(const Block& b, uint32_t offset) {
         MaybeState& j = join_[offset];
         j.merge(in);
         in = j;
+        join_stamps_[offset].entered = ++stamp_;
     }
     set_state(in);
 }
@@ -429,15 +483,45 @@ void Walk::enter(const Block& b, uint32_t offset) {
 void Walk::contribute_name(std::string_view name, uint32_t offset) {
     auto [it, inserted] = pending_name_.try_emplace(std::string(name));
     if (!it->second.merge(*B_) || !in_loop_) return;
-    // A block already walked in this sweep defines the name: walk the loop again.
     if (auto d = defs_.find(it->first); d != defs_.end())
         for (uint32_t def : d->second)
-            if (def >= loop_start_ && def <= offset) loop_changed_ = true;
+            if (def >= loop_start_) join_reached(def, offset);
 }
 
 void Walk::contribute_offset(uint32_t target, uint32_t offset) {
-    if (!pending_offset_[target].merge(*B_)) return;
-    if (in_loop_ && target >= loop_start_ && target <= offset) loop_changed_ = true;
+    if (!pending_offset_[target].merge(*B_) || !in_loop_) return;
+    if (target >= loop_start_) join_reached(target, offset);
+}
+
+// The state after the block at `offset` (B_) now also flows into the join at
+// `target` inside the loop being iterated. When that changes what the join
+// has seen, a join already walked in this sweep needs another sweep; a join
+// further on sees something new in this one.
+void Walk::join_reached(uint32_t target, uint32_t offset) {
+    if (auto j = join_.find(target); j != join_.end()) {
+        MaybeState merged = j->second;
+        if (!merged.merge(*B_)) return;  // nothing new there
+    }
+    if (target <= offset) loop_changed_ = true;
+    mark_changed(target);
+}
+
+// At every kProbeBlocks-th block of a sweep: records the state flowing into
+// the block, and (when `check`) says whether the sweep can stop here.
+bool Walk::converged(uint32_t offset, uint32_t index, bool check) {
+    if (index % kProbeBlocks != 0) return false;
+    const MaybeState now{reachable_, reachable_ ? *A_ : ModalState{}};
+    auto [it, inserted] = probes_.try_emplace(offset, now);
+    if (inserted) return false;
+    const bool same = it->second.reachable == now.reachable && (!now.reachable || it->second.state == now.state);
+    if (!same) {
+        it->second = now;
+        return false;
+    }
+    if (!check) return false;
+    for (auto j = join_stamps_.lower_bound(offset); j != join_stamps_.end(); ++j)
+        if (j->second.changed > j->second.entered) return false;
+    return true;
 }
 
 // After the block: the state flows on to its successors.
@@ -630,12 +714,68 @@ void Walk::flush() {
                 d.fingerprint = fingerprint_for(d.rule, d.range.start.line);
         }
     for (size_t i : order) {
-        if (silenced[i]) sink_.suppressed(std::move(*silenced[i]));
-        else if (verdict[i] == Folder::Verdict::Show) sink_.diagnostic(std::move(findings_[i]));
+        if (silenced[i]) deliver(std::move(*silenced[i]));
+        else if (verdict[i] == Folder::Verdict::Show) deliver(std::move(findings_[i]));
         else if (verdict[i] == Folder::Verdict::Hold) folder_.hold(findings_[i].kind, std::move(findings_[i]));
     }
     findings_.clear();
     verdicts_.clear();
+}
+
+void Walk::deliver(Diagnostic&& d) {
+    if (!speculating_) {
+        sink_.diagnostic(std::move(d));
+    } else if (speculative_.size() < kMaxSpeculativeFindings) {
+        speculative_.emplace_back(std::move(d), std::nullopt);
+    } else {
+        speculation_overflow_ = true;
+    }
+}
+
+void Walk::deliver(SuppressedDiagnostic&& s) {
+    if (!speculating_) {
+        sink_.suppressed(std::move(s));
+    } else if (speculative_.size() < kMaxSpeculativeFindings) {
+        speculative_.emplace_back(std::nullopt, std::move(s));
+    } else {
+        speculation_overflow_ = true;
+    }
+}
+
+// Walks the loop with the rules, its findings kept aside; returns whether they
+// stand (no state where paths join changed). Otherwise everything the walk
+// did to the rules and the findings is undone.
+bool Walk::walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end, const MaybeState& entry) {
+    Speculation before;
+    for (const auto& r : rules_) before.rules.push_back(r->clone());
+    before.folder = folder_;
+    before.used = filter_->used();
+    if (fingerprints_) before.occurrences = occurrences_;
+    speculating_ = true;
+    speculation_overflow_ = false;
+    speculative_.clear();
+    loop_changed_ = false;
+    set_state(entry);
+    sweep_file(start, start_line, end, Mode::Rules);
+    speculating_ = false;
+    if (!stop_ && !loop_changed_ && !speculation_overflow_) {
+        for (auto& [d, s] : speculative_) {
+            if (d) sink_.diagnostic(std::move(*d));
+            else sink_.suppressed(std::move(*s));
+        }
+        speculative_.clear();
+        return true;
+    }
+    speculative_.clear();
+    rules_ = std::move(before.rules);
+    plain_rules_.clear();
+    for (auto& r : rules_)
+        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    folder_ = std::move(before.folder);
+    filter_->set_used(before.used);
+    if (fingerprints_) occurrences_ = std::move(before.occurrences);
+    loop_changed_ = true;
+    return false;
 }
 
 }  // namespace

@@ -89,6 +89,7 @@ struct EngineStats {
     uint64_t loops = 0;                // loops of the flow graph iterated
     uint64_t loop_sweeps = 0;          // sweeps over them without the rules
     uint64_t held_loops = 0;           // loops held in memory
+    uint64_t speculative_walks = 0;    // loops walked with the rules after one sweep, and found right
     uint64_t transfers = 0;            // blocks applied to a state
     uint64_t label_misses = 0;         // has_label asked for a name the walk did not keep (should stay 0)
 };

@@ -90,12 +90,22 @@ public:
     // Plain moves with a sequence name reach it regardless.
     bool wants_plain_moves() const { return wants_plain_moves_; }
     virtual void end_program(RuleContext&, const ProgramView&) {}
+    // A copy of the rule with its state (the engine's checkpoints, from which
+    // the language server re-analyses a document after an edit).
+    virtual std::unique_ptr<Rule> clone() const = 0;
 
 protected:
     void set_wants_plain_moves(bool wanted) { wants_plain_moves_ = wanted; }
 
 private:
     bool wants_plain_moves_ = true;
+};
+
+// The base of every rule: gives it clone() by copying the rule.
+template <class Self>
+class RuleBase : public Rule {
+public:
+    std::unique_ptr<Rule> clone() const override { return std::make_unique<Self>(static_cast<const Self&>(*this)); }
 };
 
 // The rules an engine runs: their metadata and fresh instances. The rules

@@ -166,6 +166,16 @@ bool SuppressionFilter::silence(Diagnostic& d, SuppressedDiagnostic& out) {
     return true;
 }
 
+std::vector<bool> SuppressionFilter::used() const {
+    std::vector<bool> out;
+    for (const auto& e : entries_) out.push_back(e.used);
+    return out;
+}
+
+void SuppressionFilter::set_used(const std::vector<bool>& used) {
+    for (size_t i = 0; i < entries_.size() && i < used.size(); ++i) entries_[i].used = used[i];
+}
+
 std::vector<Diagnostic> SuppressionFilter::finish() {
     if (report_unused_) {
         for (const auto& e : entries_) {

@@ -35,6 +35,9 @@ public:
     bool covers(const Diagnostic& d) const;
     // The findings about the directives (OSP901, OSP902), sorted.
     std::vector<Diagnostic> finish();
+    // Which entries silenced something so far (to undo a speculative walk).
+    std::vector<bool> used() const;
+    void set_used(const std::vector<bool>& used);
 
 private:
     struct Line {

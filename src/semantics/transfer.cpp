@@ -1,3 +1,8 @@
+// The transfer function (see transfer.h): what one block does to the modal
+// state. apply_block takes the block in steps, one per concern: the G codes
+// and the modes they set, the modal words (H, D, S, F), the M codes, the
+// fixed-cycle slot, the tool-tip position, the statements and macro runs, the
+// assignments. Every value of the block is read in the state before it.
 #include "semantics/transfer.h"
 
 #include <algorithm>
@@ -8,20 +13,9 @@
 
 #include "catalog/catalog.h"
 #include "semantics/eval.h"
+#include "semantics/transfer_internal.h"
 
 namespace osplint {
-
-std::string_view call_kind_name(CallKind k) {
-    switch (k) {
-        case CallKind::None: return "none";
-        case CallKind::Call: return "CALL";
-        case CallKind::Modin: return "MODIN";
-        case CallKind::ModinPositioning: return "MODIN positioning";
-        case CallKind::GCode: return "G-code macro";
-        case CallKind::MCode: return "M-code macro";
-    }
-    return "?";
-}
 
 std::optional<double> word_value(const Block& b, const Word& w, const ModalState& s) {
     if (w.number) return w.number;
@@ -49,19 +43,6 @@ bool is_cycle_macro(const MacroSpec& spec) {
     return spec.has_form(MacroForm::GCode) && !spec.cancel.empty();
 }
 
-bool is_axis_address(std::string_view a) {
-    return a.size() == 1 && (a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z' || a[0] == 'A' || a[0] == 'B' ||
-                             a[0] == 'C' || a[0] == 'U' || a[0] == 'V' || a[0] == 'W');
-}
-
-std::vector<int> codes(const Block& b, char address) {
-    std::vector<int> out;
-    for (const auto& w : b.words)
-        if (w.address.size() == 1 && w.address[0] == address)
-            if (auto c = code_of(w)) out.push_back(*c);
-    return out;
-}
-
 // Membership in a sorted, de-duplicated code list (see `code_set`): blocks with
 // very many words stay linear.
 bool has(const std::vector<int>& sorted, int x) { return std::binary_search(sorted.begin(), sorted.end(), x); }
@@ -71,97 +52,11 @@ std::vector<int> code_set(std::vector<int> v) {
     return v;
 }
 
-// Blocks whose X/Y/Z words are not a move of the tool tip in program coordinates.
-bool non_motion_axes(const std::vector<int>& g) {
-    for (int c : g)
-        if (c == 71 || c == 4 || c == 11 || c == 10 || c == 30 || c == 50 || c == 92 || c == 20 ||
-            c == 22 || c == 23)
-            return true;
-    return false;
-}
-
 bool is_call_block(const Block& b) {
     return b.statement(StmtKind::Call) || b.statement(StmtKind::Modin);
 }
 
 }  // namespace
-
-std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog) {
-    if (b.kind != LineKind::Block) return std::nullopt;
-    const Statement* st = b.statement(StmtKind::Call);
-    if (!st) st = b.statement(StmtKind::Modin);
-    MacroCall call;
-    if (st) {
-        call.kind = st->kind == StmtKind::Call ? CallKind::Call : CallKind::Modin;
-        call.name = st->name;
-        call.name_range = st->name_range;
-        call.spec = catalog.find(st->name);
-        for (const auto& w : b.words) {
-            if (w.address == "M") {
-                call.m_codes.push_back(&w);
-            } else if (w.address == "Q" && !call.repeat) {
-                call.repeat = &w;
-            } else if (w.range.begin > st->keyword_range.begin) {
-                call.args.push_back(MacroArg{w.address, &w, {}});
-            }
-        }
-    } else {
-        // A registered G- or M-code macro.
-        for (const auto& w : b.words) {
-            if (w.address != "G" && w.address != "M") continue;
-            auto c = code_of(w);
-            if (!c) continue;
-            std::string code = w.address + std::to_string(*c);
-            const MacroSpec* spec = catalog.find_by_code(code);
-            if (!spec) continue;
-            call.kind = w.address == "G" ? CallKind::GCode : CallKind::MCode;
-            call.name = spec->name;
-            call.name_range = w.range;
-            call.spec = spec;
-            for (const auto& a : b.words) {
-                if (&a == &w) continue;
-                if (a.address == "M") {
-                    call.m_codes.push_back(&a);
-                    continue;
-                }
-                if (a.address == "G") continue;  // other G codes of the block (G90, G98 ...)
-                const ArgSpec* as = spec->arg_for_address(a.address);
-                call.args.push_back(MacroArg{as ? as->name : a.address, &a, {}});
-            }
-            break;
-        }
-        if (call.kind == CallKind::None) {
-            // A positioning block while a MODIN is open runs the modal macro.
-            if (!before.modin.known || !before.modin.value) return std::nullopt;
-            if (b.statement(StmtKind::Modout) || b.statement(StmtKind::Modin)) return std::nullopt;
-            auto g = codes(b, 'G');
-            if (non_motion_axes(g)) return std::nullopt;
-            bool moves = false;
-            for (const auto& w : b.words)
-                if (is_axis_address(w.address)) moves = true;
-            for (const auto& s : b.statements)
-                if (s.kind == StmtKind::CoordCalc) moves = true;
-            if (!moves) return std::nullopt;
-            const ActiveModin& m = *before.modin.value;
-            call.kind = CallKind::ModinPositioning;
-            call.name = m.macro;
-            call.spec = catalog.find(m.macro);
-            call.modin_line = m.line;
-            for (const auto& name : m.given) {
-                MacroArg a{name, nullptr, {}};
-                if (auto it = m.values.find(name); it != m.values.end()) a.value = Val<double>::of(it->second);
-                call.args.push_back(std::move(a));
-            }
-            for (const auto& w : b.words)
-                if (w.address == "M") call.m_codes.push_back(&w);
-            return call;
-        }
-    }
-    for (auto& a : call.args)
-        if (a.word)
-            if (auto v = word_value(b, *a.word, before)) a.value = Val<double>::of(*v);
-    return call;
-}
 
 ModalState initial_state(const Config& config, bool subprogram) {
     ModalState s;
@@ -228,18 +123,6 @@ void update_cycle(ActiveCycle& c, const Block& b, const ModalState& before, char
     }
 }
 
-bool has_axis_word(const Block& b) {
-    for (const auto& w : b.words)
-        if (is_axis_address(w.address)) return true;
-    return false;
-}
-
-bool has_coord_calc(const Block& b) {
-    for (const auto& s : b.statements)
-        if (s.kind == StmtKind::CoordCalc) return true;
-    return false;
-}
-
 void all_positions_unknown(ModalState& s) { s.x = s.y = s.z = Val<double>{}; }
 
 // What a subprogram or macro run does to the state, beyond the tool position.
@@ -281,35 +164,60 @@ void erase_all_common(ModalState& s) {
         it = common_variable_number(it->first) ? s.vars.erase(it) : std::next(it);
 }
 
-}  // namespace
-
-void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, ModalState& s) {
-    if (b.kind != LineKind::Block) return;
-    s.clear_one_shots();
-    const ModalState before = s;  // values of the block are read in the state before it
-    bool unknown_g = false, unknown_m = false;
-    const auto g = block_codes(b, 'G', before, unknown_g);
-    const auto m = block_codes(b, 'M', before, unknown_m);
-    const auto gs = code_set(g);  // for membership tests; `g` keeps the written order
-    const bool is_call = is_call_block(b);  // CALL or MODIN statement on the block
-    const bool g80 = has(gs, 80);
-    const bool interpolation = has(gs, 0) || has(gs, 1) || has(gs, 2) || has(gs, 3);
-    s.ncyl = b.statement(StmtKind::Ncyl) != nullptr;
-    s.noex = b.statement(StmtKind::Noex) != nullptr;
-    s.g100 = has(gs, 100);
-
+// What the steps of apply_block read about a block: its G and M codes and the
+// macro it runs, worked out once, in the state before the block.
+struct BlockFacts {
+    const Block& b;
+    const MacroCall* call;
+    const ModalState& before;
+    bool unknown_g = false, unknown_m = false;  // a G/M word whose value cannot be known
+    std::vector<int> g, m;                      // in the written order
+    std::vector<int> gs;                        // `g` as a code_set, for membership tests
+    bool is_call;        // CALL or MODIN statement on the block
+    bool g80;
+    bool interpolation;  // G0/G1/G2/G3
     // The macro this block runs, if any, and whether it is the declaration of
-    // a G-code macro cycle (G114 -> OG84L).
-    const bool runs_program = call && (call->kind == CallKind::Call || call->kind == CallKind::ModinPositioning ||
-                                       call->kind == CallKind::GCode || call->kind == CallKind::MCode);
-    const bool cycle_declaration =
-        call && call->kind == CallKind::GCode && call->spec && is_cycle_macro(*call->spec);
-    const bool cycle_cancel_macro =
-        call && call->kind == CallKind::MCode && call->spec && !call->spec->cancels.empty();
+    // a G-code macro cycle (G114 -> OG84L) or the M-code macro that cancels one.
+    bool runs_program;
+    bool cycle_declaration;
+    bool cycle_cancel_macro;
 
-    // --- G codes ------------------------------------------------------------
+    BlockFacts(const Block& block, const MacroCall* c, const ModalState& st) : b(block), call(c), before(st) {
+        g = block_codes(b, 'G', before, unknown_g);
+        m = block_codes(b, 'M', before, unknown_m);
+        gs = code_set(g);
+        is_call = is_call_block(b);
+        g80 = has(gs, 80);
+        interpolation = has(gs, 0) || has(gs, 1) || has(gs, 2) || has(gs, 3);
+        runs_program = call && (call->kind == CallKind::Call || call->kind == CallKind::ModinPositioning ||
+                                call->kind == CallKind::GCode || call->kind == CallKind::MCode);
+        cycle_declaration = call && call->kind == CallKind::GCode && call->spec && is_cycle_macro(*call->spec);
+        cycle_cancel_macro = call && call->kind == CallKind::MCode && call->spec && !call->spec->cancels.empty();
+    }
+};
+
+// G80: the fixed cycle ends.
+void end_fixed_cycle(const Block& b, ModalState& s) {
+    if (!s.cycle.known) {
+        // Perhaps a G114 mode: the spindle may have stopped.
+        s.spindle = Val<int>{};
+        s.spindle_stopped_by = Val<uint32_t>{};
+    } else if (s.cycle.value && !s.cycle.value->macro.empty()) {
+        // Ending G114 (OG84L): "the spindle stops too!" (seed 003 L193).
+        s.spindle = Val<int>::of(5);
+        s.spindle_stopped_by = Val<uint32_t>::of(b.line);
+    }
+    s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
+    // Whether G80 resets M52/M53/M54 is not documented: a return level
+    // stays known only when none was commanded.
+    if (!s.return_level.is(0)) s.return_level = Val<int>{};
+}
+
+// The G codes and the modes they set. Returns whether the block leaves the
+// tool-tip position unknown (a new coordinate system, a home return, ...).
+bool apply_g_codes(const BlockFacts& f, ModalState& s) {
     bool positions_unknown = false;
-    for (int c : g) {
+    for (int c : f.g) {
         switch (c) {
             case 0: case 1: case 2: case 3: case 60: s.motion = Val<int>::of(c); break;
             case 17: s.plane = Val<Plane>::of(Plane::G17); break;
@@ -334,25 +242,11 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
             case 30:  // home position
                 positions_unknown = true;
                 break;
-            case 80:
-                if (!s.cycle.known) {
-                    // Perhaps a G114 mode: the spindle may have stopped.
-                    s.spindle = Val<int>{};
-                    s.spindle_stopped_by = Val<uint32_t>{};
-                } else if (s.cycle.value && !s.cycle.value->macro.empty()) {
-                    // Ending G114 (OG84L): "the spindle stops too!" (seed 003 L193).
-                    s.spindle = Val<int>::of(5);
-                    s.spindle_stopped_by = Val<uint32_t>::of(b.line);
-                }
-                s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
-                // Whether G80 resets M52/M53/M54 is not documented: a return level
-                // stays known only when none was commanded.
-                if (!s.return_level.is(0)) s.return_level = Val<int>{};
-                break;
+            case 80: end_fixed_cycle(f.b, s); break;
             default: break;
         }
     }
-    if (unknown_g) {
+    if (f.unknown_g) {
         // A G code whose value is not known may have changed any G-code mode.
         s.plane = Val<Plane>{};
         s.distance = Val<Distance>{};
@@ -364,38 +258,45 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         s.cycle = Val<std::optional<ActiveCycle>>{};
         positions_unknown = true;
     }
-    if (has(gs, 20) && b.find("HP")) positions_unknown = true;  // G20 HP=n: home position (Multus)
+    if (has(f.gs, 20) && f.b.find("HP")) positions_unknown = true;  // G20 HP=n: home position (Multus)
+    return positions_unknown;
+}
 
-    // --- Words that set modal values ------------------------------------------
+// The words that set modal values: H (G15 work offset, G56 length offset),
+// D (cutter compensation), S, F, and the Z of G71 (the M53 return level).
+void apply_modal_words(const BlockFacts& f, ModalState& s) {
+    const Block& b = f.b;
     for (const auto& w : b.words) {
         if (w.address.size() != 1) continue;
-        auto v = word_value(b, w, before);
+        auto v = word_value(b, w, f.before);
         switch (w.address[0]) {
             case 'H':
-                if (has(gs, 15)) s.work_offset = known_or_unknown(v);
-                if (has(gs, 56)) s.length_offset_h = known_or_unknown(v);
+                if (has(f.gs, 15)) s.work_offset = known_or_unknown(v);
+                if (has(f.gs, 56)) s.length_offset_h = known_or_unknown(v);
                 break;
             case 'D':
-                if (has(gs, 41) || has(gs, 42)) s.cutter_comp_d = known_or_unknown(v);
+                if (has(f.gs, 41) || has(f.gs, 42)) s.cutter_comp_d = known_or_unknown(v);
                 break;
             case 'S':
-                if (!is_call) {
+                if (!f.is_call) {
                     s.spindle_speed = known_or_unknown(v);
                     s.speed_commanded = Val<bool>::of(true);
                 }
                 break;
             case 'F':
-                if (!is_call && !has(gs, 4)) s.feed = known_or_unknown(v);
+                if (!f.is_call && !has(f.gs, 4)) s.feed = known_or_unknown(v);
                 break;
             case 'Z':
-                if (has(gs, 71)) s.g71_level = known_or_unknown(v);
+                if (has(f.gs, 71)) s.g71_level = known_or_unknown(v);
                 break;
             default: break;
         }
     }
+}
 
-    // --- M codes --------------------------------------------------------------
-    for (int c : m) {
+// The M codes: spindle, coolant, return level, synchronised tapping.
+void apply_m_codes(const BlockFacts& f, ModalState& s) {
+    for (int c : f.m) {
         switch (c) {
             case 3: case 4: case 5:
                 s.spindle = Val<int>::of(c);
@@ -428,43 +329,63 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
             default: break;
         }
     }
-    if (unknown_m) {
+    if (f.unknown_m) {
         s.spindle = Val<int>{};
         s.spindle_stopped_by = Val<uint32_t>{};
         s.coolant = Val<bool>{};
         s.return_level = Val<int>{};
         s.sync_tap = Val<bool>{};
     }
+}
 
-    // --- Fixed cycles and the G-code macro cycle (OG84L via G114) ----------------
-    int cycle_code = 0;
-    ByteRange cycle_word;
+// The cycle a block commands: the code of its fixed-cycle G word (or of the
+// G-code macro it declares) and that word's range; code 0 when none.
+struct CycleWord {
+    int code = 0;
+    ByteRange range;
+};
+
+CycleWord commanded_cycle(const BlockFacts& f, const Catalog& catalog, bool& positions_unknown) {
+    const Block& b = f.b;
+    CycleWord cw;
     for (const auto& w : b.words) {
         if (w.address != "G") continue;
         auto c = code_of(w);
         if (c && is_fixed_cycle_code(catalog, *c)) {
-            cycle_code = *c;
-            cycle_word = w.range;
+            cw.code = *c;
+            cw.range = w.range;
         }
     }
-    if (cycle_code >= 85 && cycle_code <= 89 && b.find("N")) {
+    if (cw.code >= 85 && cw.code <= 89 && b.find("N")) {
         // `G85 N0207 D7 ...` names a contour: a lathe LAP cycle, not a fixed
         // cycle. It machines the contour and ends where it ends.
-        cycle_code = 0;
+        cw.code = 0;
         positions_unknown = true;
     }
-    std::string cycle_macro;
-    if (cycle_declaration) {
+    if (f.cycle_declaration) {
         for (const auto& w : b.words)
-            if (w.range == call->name_range)
+            if (w.range == f.call->name_range)
                 if (auto c = code_of(w)) {
-                    cycle_code = *c;
-                    cycle_word = w.range;
+                    cw.code = *c;
+                    cw.range = w.range;
                 }
-        cycle_macro = call->spec->name;
+    }
+    return cw;
+}
+
+// The fixed-cycle slot: fixed cycles and the G-code macro cycle (OG84L via
+// G114), started, continued with new modal words, or ended by the M-code
+// macro that cancels it. Returns the code of the cycle the block commands (0: none).
+int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s, bool& positions_unknown) {
+    const Block& b = f.b;
+    const ModalState& before = f.before;
+    const CycleWord cw = commanded_cycle(f, catalog, positions_unknown);
+    std::string cycle_macro;
+    if (f.cycle_declaration) {
+        cycle_macro = f.call->spec->name;
         s.overrides_disabled = Val<bool>::of(true);
     }
-    if (cycle_cancel_macro) {
+    if (f.cycle_cancel_macro) {
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
         s.overrides_disabled = Val<bool>::of(false);
         s.spindle = Val<int>::of(5);  // "the spindle stops too" (seed 003 L193, A-45)
@@ -472,23 +393,23 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         if (!s.return_level.is(0)) s.return_level = Val<int>{};
     }
     const char cyc_axis = s.plane.known ? plane_axes(s.plane.value).cycle : 0;
-    if (cycle_code) {
+    if (cw.code) {
         ActiveCycle c;
-        const bool same = !g80 && before.cycle.known && before.cycle.value &&
-                          before.cycle.value->code == cycle_code && before.cycle.value->macro == cycle_macro;
+        const bool same = !f.g80 && before.cycle.known && before.cycle.value &&
+                          before.cycle.value->code == cw.code && before.cycle.value->macro == cycle_macro;
         if (same) {
             c = *before.cycle.value;  // the same cycle commanded again: the modal values carry over
         } else {
-            c.code = cycle_code;
+            c.code = cw.code;
             c.macro = cycle_macro;
             c.start_line = b.line;
-            c.start_range = cycle_word;
+            c.start_range = cw.range;
             if (cyc_axis) c.initial = before.axis(cyc_axis);
         }
         update_cycle(c, b, before, cyc_axis);
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::move(c));
-    } else if (s.cycle.known && s.cycle.value && !g80) {
-        if (interpolation) {
+    } else if (s.cycle.known && s.cycle.value && !f.g80) {
+        if (f.interpolation) {
             // Whether G0/G1/G2/G3 ends a fixed cycle on this control is not
             // documented: the cycle may or may not still be modal.
             s.cycle = Val<std::optional<ActiveCycle>>{};
@@ -498,13 +419,107 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
             s.cycle = Val<std::optional<ActiveCycle>>::of(std::move(c));
         }
     }
+    return cw.code;
+}
 
-    // --- Tool-tip position -------------------------------------------------------
-    const bool in_cycle = s.cycle.known && s.cycle.value && !g80;
+// Where the hole of the active cycle leaves the tool on the cycle axis: the
+// return level of M53 (the G71 level) / M54 (R) / G98 (initial point) / G99
+// (R), unknown when it cannot be told (M52: the upper limit).
+Val<double> hole_return_position(const ModalState& before, const ModalState& s, char cyc_axis) {
+    const ActiveCycle& c = *s.cycle.value;
+    const Val<double> i_point = before.axis(cyc_axis);
+    Val<double> r_abs;
+    if (s.distance.is(Distance::Absolute))
+        r_abs = c.r;
+    else if (s.distance.is(Distance::Incremental) && i_point.known && c.r.known)
+        r_abs = Val<double>::of(i_point.value + c.r.value);
+    Val<double> ret;
+    if (s.return_level.known) {
+        switch (s.return_level.value) {
+            case 53:
+                if (s.distance.is(Distance::Absolute)) ret = s.g71_level;
+                break;
+            case 54: ret = r_abs; break;
+            case 0:
+                if (s.cycle_return.is(CycleReturn::Initial)) ret = c.initial;
+                else if (s.cycle_return.is(CycleReturn::R)) ret = r_abs;
+                break;
+            default: break;  // M52: the upper limit
+        }
+    }
+    return ret;
+}
+
+// Whether a cycle is modal, and the cycle axis, as the tool-tip step sees them.
+struct CycleContext {
+    bool in_cycle;     // a cycle is known to be modal after the block
+    bool maybe_cycle;  // whether a cycle is modal is not known
+    char axis;         // the cycle axis of the plane (0: plane not known)
+};
+
+// The axis words of a block that moves the tool (no coordinate setting, no
+// G71/G4): each X/Y/Z in G90/G91, then what a hole pattern or a hole of the
+// cycle does to the positions.
+void move_tool(const BlockFacts& f, const CycleContext& cc, int cycle_code, ModalState& s) {
+    const Block& b = f.b;
+    const ModalState& before = f.before;
+    const Distance* dist = s.distance.known ? &s.distance.value : nullptr;
+    for (const auto& w : b.words) {
+        if (w.address.size() != 1) continue;
+        Val<double>* ax = s.axis_ref(w.address[0]);
+        if (!ax || is_coord_calc_operand(b, w)) continue;  // pattern operands: handled below
+        if (cc.in_cycle && cc.axis && w.address[0] == cc.axis) continue;  // cycle depth, not a move
+        if ((cc.maybe_cycle || cc.in_cycle) && (!cc.axis || w.address[0] == cc.axis)) {
+            *ax = Val<double>{};  // perhaps a depth, perhaps a move
+            continue;
+        }
+        auto v = word_value(b, w, before);
+        if (!v || !dist || s.noex) {
+            *ax = Val<double>{};
+        } else if (*dist == Distance::Absolute) {
+            *ax = Val<double>::of(*v);
+        } else {
+            Val<double> old = before.axis(w.address[0]);
+            *ax = old.known ? Val<double>::of(old.value + *v) : Val<double>{};
+        }
+    }
+    if ((has(f.gs, 56) || has(f.gs, 53)) && !b.find("Z")) s.z = Val<double>{};  // the offset changes the tip's Z
+    if (has_coord_calc(b)) {
+        // A hole pattern: the positioning-plane axes end at its last point.
+        if (s.plane.known) {
+            const PlaneAxes pa = plane_axes(s.plane.value);
+            *s.axis_ref(pa.first) = Val<double>{};
+            *s.axis_ref(pa.second) = Val<double>{};
+        } else {
+            all_positions_unknown(s);
+        }
+    }
+    if (cc.maybe_cycle && (has_axis_word(b) || find_address(b, "R") || has_coord_calc(b))) {
+        // Perhaps a hole: the cycle axis may end at a return level.
+        if (cc.axis)
+            *s.axis_ref(cc.axis) = Val<double>{};
+        else
+            all_positions_unknown(s);
+    }
+    if (cc.in_cycle && cc.axis) {
+        // A hole is machined unless the block only positions (NCYL, G100, the
+        // G114 declaration block, NOEX) or has no positioning at all.
+        const bool positions = cycle_code || has_axis_word(b) || find_address(b, "R") || has_coord_calc(b);
+        const bool hole = positions && !s.ncyl && !s.g100 && !s.noex && !f.cycle_declaration;
+        if (hole) *s.axis_ref(cc.axis) = hole_return_position(before, s, cc.axis);
+    }
+}
+
+// The tool-tip position, including where the hole of a fixed cycle leaves it.
+void apply_tool_position(const BlockFacts& f, int cycle_code, bool positions_unknown, ModalState& s) {
+    const Block& b = f.b;
+    CycleContext cc;
+    cc.in_cycle = s.cycle.known && s.cycle.value && !f.g80;
     // Whether a cycle is modal is not known: the block may machine a hole,
     // unless it commands an interpolation (then its words are a move).
-    const bool maybe_cycle = !s.cycle.known && !g80 && !interpolation;
-    if (runs_program && !cycle_declaration && !cycle_cancel_macro) {
+    cc.maybe_cycle = !s.cycle.known && !f.g80 && !f.interpolation;
+    cc.axis = s.plane.known ? plane_axes(s.plane.value).cycle : 0;
+    if (f.runs_program && !f.cycle_declaration && !f.cycle_cancel_macro) {
         // A subprogram or macro moves the tool in ways this evaluator does not follow.
         positions_unknown = true;
     }
@@ -512,84 +527,33 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     if (b.statement(StmtKind::Call)) positions_unknown = true;
     if (positions_unknown) {
         all_positions_unknown(s);
-    } else if (has(gs, 92) || has(gs, 50) || has(gs, 22) || has(gs, 23)) {
+    } else if (has(f.gs, 92) || has(f.gs, 50) || has(f.gs, 22) || has(f.gs, 23)) {
         // Coordinate setting and the like: the named axes get values this
         // evaluator does not model.
         for (const auto& w : b.words)
             if (w.address.size() == 1)
                 if (Val<double>* ax = s.axis_ref(w.address[0])) *ax = Val<double>{};
-    } else if (!has(gs, 71) && !has(gs, 4)) {
-        const Distance* dist = s.distance.known ? &s.distance.value : nullptr;
-        for (const auto& w : b.words) {
-            if (w.address.size() != 1) continue;
-            Val<double>* ax = s.axis_ref(w.address[0]);
-            if (!ax || is_coord_calc_operand(b, w)) continue;  // pattern operands: handled below
-            if (in_cycle && cyc_axis && w.address[0] == cyc_axis) continue;  // cycle depth, not a move
-            if ((maybe_cycle || in_cycle) && (!cyc_axis || w.address[0] == cyc_axis)) {
-                *ax = Val<double>{};  // perhaps a depth, perhaps a move
-                continue;
-            }
-            auto v = word_value(b, w, before);
-            if (!v || !dist || s.noex) {
-                *ax = Val<double>{};
-            } else if (*dist == Distance::Absolute) {
-                *ax = Val<double>::of(*v);
-            } else {
-                Val<double> old = before.axis(w.address[0]);
-                *ax = old.known ? Val<double>::of(old.value + *v) : Val<double>{};
-            }
-        }
-        if ((has(gs, 56) || has(gs, 53)) && !b.find("Z")) s.z = Val<double>{};  // the offset changes the tip's Z
-        if (has_coord_calc(b)) {
-            // A hole pattern: the positioning-plane axes end at its last point.
-            if (s.plane.known) {
-                const PlaneAxes pa = plane_axes(s.plane.value);
-                *s.axis_ref(pa.first) = Val<double>{};
-                *s.axis_ref(pa.second) = Val<double>{};
-            } else {
-                all_positions_unknown(s);
-            }
-        }
-        if (maybe_cycle && (has_axis_word(b) || find_address(b, "R") || has_coord_calc(b))) {
-            // Perhaps a hole: the cycle axis may end at a return level.
-            if (cyc_axis)
-                *s.axis_ref(cyc_axis) = Val<double>{};
-            else
-                all_positions_unknown(s);
-        }
-        if (in_cycle && cyc_axis) {
-            // A hole is machined unless the block only positions (NCYL, G100, the
-            // G114 declaration block, NOEX) or has no positioning at all.
-            const bool positions = cycle_code || has_axis_word(b) || find_address(b, "R") || has_coord_calc(b);
-            const bool hole = positions && !s.ncyl && !s.g100 && !s.noex && !cycle_declaration;
-            if (hole) {
-                const ActiveCycle& c = *s.cycle.value;
-                const Val<double> i_point = before.axis(cyc_axis);
-                Val<double> r_abs;
-                if (s.distance.is(Distance::Absolute))
-                    r_abs = c.r;
-                else if (s.distance.is(Distance::Incremental) && i_point.known && c.r.known)
-                    r_abs = Val<double>::of(i_point.value + c.r.value);
-                Val<double> ret;
-                if (s.return_level.known) {
-                    switch (s.return_level.value) {
-                        case 53:
-                            if (s.distance.is(Distance::Absolute)) ret = s.g71_level;
-                            break;
-                        case 54: ret = r_abs; break;
-                        case 0:
-                            if (s.cycle_return.is(CycleReturn::Initial)) ret = c.initial;
-                            else if (s.cycle_return.is(CycleReturn::R)) ret = r_abs;
-                            break;
-                        default: break;  // M52: the upper limit
-                    }
-                }
-                *s.axis_ref(cyc_axis) = ret;
-            }
-        }
+    } else if (!has(f.gs, 71) && !has(f.gs, 4)) {
+        move_tool(f, cc, cycle_code, s);
     }
+}
 
-    // --- Statements -----------------------------------------------------------
+// A subprogram or macro run, and the common variables it may change.
+void run_program(const MacroCall* call, const MacroSpec* spec, const ModalState& before, ModalState& s) {
+    apply_subprogram_run(call, spec, before, s);
+    if (!spec) {
+        // An unknown subprogram may change any common variable.
+        erase_all_common(s);
+    } else if (spec->vc120_128_clobbered) {
+        erase_reserved_common(s);
+    }
+}
+
+// The statements (MODIN, MODOUT, CALL) and the macro runs of MODIN
+// positioning blocks and G/M-code macros.
+void apply_statements(const BlockFacts& f, const Catalog& catalog, ModalState& s) {
+    const Block& b = f.b;
+    const MacroCall* call = f.call;
     for (const auto& st : b.statements) {
         switch (st.kind) {
             case StmtKind::Modin: {
@@ -608,35 +572,24 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
             case StmtKind::Modout:
                 s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
                 break;
-            case StmtKind::Call: {
-                const MacroSpec* spec = catalog.find(st.name);
-                apply_subprogram_run(call && call->kind == CallKind::Call ? call : nullptr, spec, before, s);
-                if (!spec) {
-                    // An unknown subprogram may change any common variable.
-                    erase_all_common(s);
-                } else if (spec->vc120_128_clobbered) {
-                    erase_reserved_common(s);
-                }
+            case StmtKind::Call:
+                run_program(call && call->kind == CallKind::Call ? call : nullptr, catalog.find(st.name), f.before, s);
                 break;
-            }
             default: break;
         }
     }
-    if (call && call->kind == CallKind::ModinPositioning) {
-        apply_subprogram_run(call, call->spec, before, s);
-        if (!call->spec) erase_all_common(s);
-        else if (call->spec->vc120_128_clobbered) erase_reserved_common(s);
-    }
-    if (call && (call->kind == CallKind::GCode || call->kind == CallKind::MCode) && !cycle_declaration &&
-        !cycle_cancel_macro) {
-        apply_subprogram_run(call, call->spec, before, s);
-        if (!call->spec) erase_all_common(s);
-        else if (call->spec->vc120_128_clobbered) erase_reserved_common(s);
-    }
+    if (call && call->kind == CallKind::ModinPositioning) run_program(call, call->spec, f.before, s);
+    if (call && (call->kind == CallKind::GCode || call->kind == CallKind::MCode) && !f.cycle_declaration &&
+        !f.cycle_cancel_macro)
+        run_program(call, call->spec, f.before, s);
+}
 
-    // --- Assignments: variables and plain locals (`PX=0` on a block with no G/M code or call)
+// Assignments: variables, and plain locals (`PX=0` on a block with no G/M
+// code or call).
+void apply_assignments(const BlockFacts& f, ModalState& s) {
+    const Block& b = f.b;
     for (const auto& a : b.assignments) {
-        auto key = variable_key(b, a.target, before);
+        auto key = variable_key(b, a.target, f.before);
         if (!key) {
             // Unknown subscript: any variable of that family may change.
             const ExprNode* t = b.expr(a.target);
@@ -645,22 +598,42 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
                 it = it->first.rfind(base, 0) == 0 ? s.vars.erase(it) : std::next(it);
             continue;
         }
-        auto v = evaluate(b, a.value, before);
+        auto v = evaluate(b, a.value, f.before);
         if (v)
             s.vars[*key] = *v;
         else
             s.vars.erase(*key);
     }
-    if (!is_call && g.empty() && m.empty() && !call && !unknown_g && !unknown_m) {
+    if (!f.is_call && f.g.empty() && f.m.empty() && !f.call && !f.unknown_g && !f.unknown_m) {
         for (const auto& w : b.words) {
             if (w.address.size() < 2 || !w.equals) continue;
-            auto v = word_value(b, w, before);
+            auto v = word_value(b, w, f.before);
             if (v)
                 s.vars[w.address] = *v;
             else
                 s.vars.erase(w.address);
         }
     }
+}
+
+}  // namespace
+
+void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, ModalState& s) {
+    if (b.kind != LineKind::Block) return;
+    s.clear_one_shots();
+    const ModalState before = s;  // values of the block are read in the state before it
+    const BlockFacts f(b, call, before);
+    s.ncyl = b.statement(StmtKind::Ncyl) != nullptr;
+    s.noex = b.statement(StmtKind::Noex) != nullptr;
+    s.g100 = has(f.gs, 100);
+
+    bool positions_unknown = apply_g_codes(f, s);
+    apply_modal_words(f, s);
+    apply_m_codes(f, s);
+    const int cycle_code = apply_cycle_slot(f, catalog, s, positions_unknown);
+    apply_tool_position(f, cycle_code, positions_unknown, s);
+    apply_statements(f, catalog, s);
+    apply_assignments(f, s);
 }
 
 bool is_plain_move_block(const Block& b) {

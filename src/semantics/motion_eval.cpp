@@ -1,0 +1,208 @@
+// The catalog's expressions and `when` conditions, evaluated against the
+// arguments of a call (see motion_internal.h): the arithmetic each point of an
+// envelope shows ("PZ-PI-PL = -20-12-5 = -37") and why a value is not known.
+#include <cctype>
+
+#include "semantics/motion_internal.h"
+
+namespace osplint::motion_detail {
+
+std::string upper(std::string_view s) {
+    std::string out(s);
+    for (auto& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return out;
+}
+
+bool contains_ci(std::string_view hay, std::string_view needle) {
+    return upper(hay).find(upper(needle)) != std::string::npos;
+}
+
+// --- Tri-state conditions of the catalog's `when` -----------------------------
+
+namespace {
+
+Tri tri_not(Tri a) { return a == Tri::Unknown ? a : (a == Tri::True ? Tri::False : Tri::True); }
+Tri tri_and(Tri a, Tri b) {
+    if (a == Tri::False || b == Tri::False) return Tri::False;
+    if (a == Tri::True && b == Tri::True) return Tri::True;
+    return Tri::Unknown;
+}
+Tri tri_or(Tri a, Tri b) {
+    if (a == Tri::True || b == Tri::True) return Tri::True;
+    if (a == Tri::False && b == Tri::False) return Tri::False;
+    return Tri::Unknown;
+}
+
+// `G17 and (PM=52 or M52)`, `given:PK`, `M53`: atoms joined by and/or, with
+// parentheses. Anything it cannot read is Unknown.
+class Condition {
+public:
+    Condition(std::string_view text, const std::function<Tri(std::string_view)>& atom) : s_(text), atom_(atom) {}
+    Tri eval() {
+        Tri r = parse_or();
+        skip();
+        return i_ == s_.size() ? r : Tri::Unknown;
+    }
+
+private:
+    void skip() {
+        while (i_ < s_.size() && s_[i_] == ' ') ++i_;
+    }
+    std::string_view token() {
+        skip();
+        if (i_ >= s_.size()) return {};
+        if (s_[i_] == '(' || s_[i_] == ')') return s_.substr(i_, 1);
+        size_t j = i_;
+        while (j < s_.size() && s_[j] != ' ' && s_[j] != '(' && s_[j] != ')') ++j;
+        return s_.substr(i_, j - i_);
+    }
+    Tri parse_or() {
+        Tri r = parse_and();
+        while (upper(token()) == "OR") {
+            i_ += 2;
+            r = tri_or(r, parse_and());
+        }
+        return r;
+    }
+    Tri parse_and() {
+        Tri r = parse_primary();
+        while (upper(token()) == "AND") {
+            i_ += 3;
+            r = tri_and(r, parse_primary());
+        }
+        return r;
+    }
+    Tri parse_primary() {
+        std::string_view t = token();
+        if (t.empty()) return Tri::Unknown;
+        if (t == "(") {
+            ++i_;
+            Tri r = parse_or();
+            if (token() == ")") ++i_;
+            return r;
+        }
+        if (upper(t) == "NOT") {
+            i_ += 3;
+            return tri_not(parse_primary());
+        }
+        i_ += t.size();
+        return atom_(t);
+    }
+    std::string_view s_;
+    size_t i_ = 0;
+    const std::function<Tri(std::string_view)>& atom_;
+};
+
+}  // namespace
+
+Tri tri_of(const Val<bool>& v) { return v.known ? (v.value ? Tri::True : Tri::False) : Tri::Unknown; }
+
+Tri eval_condition(std::string_view text, const std::function<Tri(std::string_view)>& atom) {
+    return Condition(text, atom).eval();
+}
+
+// --- Argument values ----------------------------------------------------------
+
+namespace {
+
+bool zero_when_absent(const ArgSpec& a) {
+    return a.omitted == ArgOmitted::None &&
+           (a.role == ArgRole::Length || a.role == ArgRole::Stroke || a.role == ArgRole::Shift);
+}
+
+}  // namespace
+
+Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional) {
+    Evaluated out;
+    auto terms = parse_catalog_expr(text);
+    if (!terms) {
+        out.why = "\"" + text + "\" is not an expression osplint can read";
+        out.worked = "? (" + out.why + ")";
+        return out;
+    }
+    double sum = 0;
+    bool known = true;
+    std::string shown, notes, unknown_why;
+    for (size_t k = 0; k < terms->size(); ++k) {
+        const ExprTerm& t = (*terms)[k];
+        double v = t.number;
+        std::string piece;
+        if (!t.name.empty()) {
+            ArgValue av = lookup(t.name);
+            const ArgSpec* as = spec ? spec->arg(t.name) : nullptr;
+            if (av.state == ArgValue::State::Absent) {
+                if (as && as->undocumented) {
+                    out.skip = true;
+                    out.why = t.name + " is not given (the manual uses it here but never defines it)";
+                    return out;
+                }
+                if (conditional) {
+                    out.skip = true;
+                    out.why = t.name + " is not given";
+                    return out;
+                }
+                if (as && zero_when_absent(*as)) {
+                    av.state = ArgValue::State::Known;
+                    av.value = 0;
+                    av.how = "not given: 0";
+                } else {
+                    known = false;
+                    if (unknown_why.empty()) unknown_why = t.name + " is not given";
+                    piece = t.name;
+                }
+            } else if (av.state == ArgValue::State::Unknown) {
+                known = false;
+                if (unknown_why.empty())
+                    unknown_why = t.name + (av.how.empty() ? std::string(": value not known") : ": " + av.how);
+                piece = t.name;
+            }
+            if (av.state == ArgValue::State::Known) {
+                v = av.value;
+                if (!av.how.empty()) notes += (notes.empty() ? "" : "; ") + t.name + " " + av.how;
+            }
+        }
+        if (piece.empty()) piece = k == 0 ? (t.sign < 0 ? "-" + paren(v) : num(v)) : (t.sign < 0 ? "-" : "+") + paren(v);
+        else piece = (k == 0 ? (t.sign < 0 ? "-" : "") : (t.sign < 0 ? "-" : "+")) + piece;
+        shown += piece;
+        sum += t.sign * v;
+    }
+    if (known) {
+        out.value = Val<double>::of(sum);
+        out.worked = terms->size() == 1 ? num(sum) : shown + " = " + num(sum);
+        if (!notes.empty()) out.worked += " (" + notes + ")";
+    } else {
+        out.why = unknown_why;
+        std::string bare;
+        for (char ch : text)
+            if (ch != ' ') bare += ch;
+        out.worked = (terms->size() == 1 || shown == bare ? std::string("?") : shown + " = ?") + " (" + unknown_why + ")";
+    }
+    return out;
+}
+
+std::string addr_of(const MacroSpec& spec, const std::string& name) {
+    if (spec.gcode_form)
+        for (const auto& [addr, target] : spec.gcode_form->address_map)
+            if (target == name) return addr;
+    return name;
+}
+
+const MacroArg* given_arg(const MacroCall& c, const ArgSpec* a, const std::string& name) {
+    if (a) {
+        if (const MacroArg* m = c.arg(a->name)) return m;
+        for (const auto& alias : a->aliases)
+            if (const MacroArg* m = c.arg(alias)) return m;
+    }
+    return c.arg(name);
+}
+
+std::string mark_for(const std::string& expr) {
+    if (expr == "PR" || expr == "R") return "R";
+    if (expr == "PZ" || expr == "Z") return "Z";
+    if (expr == "PA") return "A";
+    if (expr == "PT") return "T";
+    if (expr == "Z+L") return "Z+L";  // OG84L: the spindle stops at Z+L, the tap reaches Z
+    return "";
+}
+
+}  // namespace osplint::motion_detail

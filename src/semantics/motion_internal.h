@@ -1,0 +1,92 @@
+// What the files of the cycle-axis motion evaluator share (motion.h is the
+// public interface):
+//
+//   motion.cpp         the envelope types, finishing an envelope, which blocks
+//                      run a macro or a hole (cycle_envelope)
+//   motion_eval.cpp    the catalog's expressions and `when` conditions,
+//                      evaluated against the arguments of a call
+//   motion_macro.cpp   the envelope of a macro call (the catalog's action steps)
+//   motion_hole.cpp    the envelope of a fixed-cycle hole (I -> R -> Z -> return)
+//   motion_travel.cpp  points outside [machine.travel]
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "catalog/catalog.h"
+#include "semantics/motion.h"
+
+namespace osplint::motion_detail {
+
+// --- Text ---------------------------------------------------------------------
+
+inline std::string num(double v) { return motion_number(v); }
+// A number as a term of a sum: negative numbers in parentheses.
+inline std::string paren(double v) { return v < 0 ? "(" + num(v) + ")" : num(v); }
+std::string upper(std::string_view s);
+bool contains_ci(std::string_view hay, std::string_view needle);
+
+// --- Blocks and the configuration -----------------------------------------------
+
+bool has_code(const Block& b, char address, int code);
+// G codes whose axis words are not a move of the tool tip.
+bool non_motion_block(const Block& b);
+// A G-code macro that behaves as a fixed cycle until its cancel (OG84L).
+bool is_cycle_macro(const MacroSpec& spec);
+bool is_any_axis(std::string_view a);  // X Y Z A B C U V W
+bool is_axis_letter(std::string_view a);  // X Y Z
+bool block_has_axis(const Block& b, char axis);
+// The plane point a word of the block moves to (G90/G91).
+std::optional<double> block_axis_target(const Block& b, char axis, const ModalState& before);
+std::optional<double> travel_max(const Config& c, char axis);
+
+// --- Tri-state conditions of the catalog's `when` -------------------------------
+
+enum class Tri { False, True, Unknown };
+Tri tri_of(const Val<bool>& v);
+// `G17 and (PM=52 or M52)`, `given:PK`, `M53`: atoms joined by and/or/not,
+// with parentheses; `atom` decides each atom. Anything it cannot read is Unknown.
+Tri eval_condition(std::string_view text, const std::function<Tri(std::string_view)>& atom);
+
+// --- Argument values and catalog expressions ------------------------------------
+
+struct ArgValue {
+    enum class State { Known, Unknown, Absent } state = State::Absent;
+    double value = 0;
+    std::string how;  // why it has this value when not written: "default 5", "current position"
+};
+
+// What the evaluation of one catalog expression gives.
+struct Evaluated {
+    Val<double> value;
+    std::string worked;  // "-20-12-5 = -37 (PL not given: default 5)"
+    bool skip = false;   // the step does not run (an argument it needs is not given)
+    std::string why;     // why skipped / unknown
+};
+
+using Lookup = std::function<ArgValue(const std::string&)>;
+
+// Evaluates a catalog expression (a sum of argument names and numbers) with
+// the argument values `lookup` gives. `conditional`: the step has a `when`, so
+// an argument that is not given skips it.
+Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional);
+// The address an argument of a G-code macro is written with (OG84L: "L" for L).
+std::string addr_of(const MacroSpec& spec, const std::string& name);
+// The argument of the call that gives `name` (by its name or an alias).
+const MacroArg* given_arg(const MacroCall& c, const ArgSpec* a, const std::string& name);
+// The picture's mark for a point reached by `expr` ("R", "Z", ...; "" = none).
+std::string mark_for(const std::string& expr);
+
+// --- Envelopes ------------------------------------------------------------------
+
+// Sets the extremes and the bounds of an envelope from its points.
+void finish(Envelope& env);
+
+std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
+                                       const MacroCall& call, const MacroSpec& spec, const Config& config);
+std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
+                                      const Config& config);
+
+}  // namespace osplint::motion_detail

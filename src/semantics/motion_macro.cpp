@@ -1,0 +1,402 @@
+// The envelope of a macro call (CALL, a positioning block of an open MODIN, a
+// one-shot G-code macro): the catalog's action steps walked in order, each
+// step's cycle-axis point worked out from the call's arguments; then the
+// start point in the positioning plane and where the motion may spread there.
+#include <cmath>
+#include <map>
+
+#include "semantics/motion_internal.h"
+
+namespace osplint::motion_detail {
+
+namespace {
+
+// What the steps of a macro's envelope read: the block, its call and macro,
+// the states around it, and the plane it runs in.
+struct MacroRun {
+    const Block& b;
+    const ModalState& before;
+    const ModalState& after;
+    const MacroCall& call;
+    const MacroSpec& spec;
+    const Config& config;
+    Plane plane;
+    char axis;  // the cycle axis
+
+    // The value of an argument: as written, the default, or (for a cycle-axis
+    // argument that is omitted) the current position.
+    ArgValue arg(const std::string& name) const {
+        const ArgSpec* as = spec.arg(name);
+        ArgValue out;
+        if (const MacroArg* m = given_arg(call, as, name)) {
+            if (m->value.known) {
+                out.state = ArgValue::State::Known;
+                out.value = m->value.value;
+            } else {
+                out.state = ArgValue::State::Unknown;
+                out.how = m->word ? "value of \"" + m->word->value_text + "\" not known" : "value not known";
+            }
+            return out;
+        }
+        if (!as) return out;
+        if (as->default_value) {
+            out.state = ArgValue::State::Known;
+            out.value = *as->default_value;
+            out.how = "not given: default " + num(*as->default_value);
+            return out;
+        }
+        if (as->omitted == ArgOmitted::Current && as->role == ArgRole::Cycle) {
+            Val<double> cur = before.axis(axis);
+            if (cur.known) {
+                out.state = ArgValue::State::Known;
+                out.value = cur.value;
+                out.how = "not given: current position " + num(cur.value);
+            } else {
+                out.state = ArgValue::State::Unknown;
+                out.how = "not given, and the current " + std::string(1, axis) + " position is not known";
+            }
+        }
+        return out;
+    }
+
+    // Whether the return level M52/M53/M54 is in effect for the macro.
+    Tri m_active(int code) const {
+        if (code == 52 && spec.m52 == M52Mode::IgnoredUsePM52 && call.kind != CallKind::ModinPositioning)
+            return Tri::False;  // M52 on a CALL line is not read by the subprogram
+        if (!after.return_level.known) return Tri::Unknown;
+        return after.return_level.value == code ? Tri::True : Tri::False;
+    }
+
+    // An atom of a step's `when`: G17/G18/G19, G90/G91, M52/M53/M54,
+    // `given:NAME`, `NAME=value`.
+    Tri atom(std::string_view t) const {
+        std::string a = upper(t);
+        if (a == "G17" || a == "G18" || a == "G19") return (a == plane_name(plane)) ? Tri::True : Tri::False;
+        if (a == "G90") return tri_of(before.distance.known ? Val<bool>::of(before.distance.value == Distance::Absolute) : Val<bool>{});
+        if (a == "G91") return tri_of(before.distance.known ? Val<bool>::of(before.distance.value == Distance::Incremental) : Val<bool>{});
+        if (a == "M52") return m_active(52);
+        if (a == "M53") return m_active(53);
+        if (a == "M54") return m_active(54);
+        if (a.rfind("GIVEN:", 0) == 0) {
+            std::string n = a.substr(6);
+            return given_arg(call, spec.arg(n), n) ? Tri::True : Tri::False;
+        }
+        if (auto eq = a.find('='); eq != std::string::npos) {
+            std::string n = a.substr(0, eq);
+            double want = std::atof(a.c_str() + eq + 1);
+            ArgValue v = arg(n);
+            if (v.state == ArgValue::State::Absent) return Tri::False;
+            if (v.state == ArgValue::State::Unknown) return Tri::Unknown;
+            return v.value == want ? Tri::True : Tri::False;
+        }
+        return Tri::Unknown;
+    }
+};
+
+// Where the tool is on the cycle axis while the action steps are walked.
+struct ActionWalk {
+    std::optional<Interval> cur;  // after the steps so far (nullopt: not known)
+    bool end_known = true;        // whether `Envelope::end` is where the last step leaves the tool
+};
+
+// A step with a `target`: the cycle-axis position it reaches. False when the
+// step does not run (an argument it needs is not given).
+bool target_step(const MacroRun& run, const Lookup& lookup, const ActionStep& step, MotionPoint& p, ActionWalk& walk,
+                 Envelope& env) {
+    Evaluated e = evaluate_expr(step.target, &run.spec, lookup, !step.when.empty());
+    if (e.skip) {
+        env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
+        return false;
+    }
+    p.expr = step.target;
+    p.mark = mark_for(step.target);
+    p.worked = e.worked;
+    if (p.possible) {
+        if (e.value.known) p.reach = Interval{e.value.value, e.value.value};
+        p.worked += " (runs only if " + step.when + ", not known here)";
+        walk.end_known = false;
+    } else {
+        p.value = e.value;
+        walk.cur = e.value.known ? std::optional(Interval{e.value.value, e.value.value}) : std::nullopt;
+        walk.end_known = true;
+        env.end = e.value;
+    }
+    return true;
+}
+
+// A step with `by`: a stroke of stated length whose direction the manual does
+// not print, so a possible point either way. False when the step does not run.
+bool stroke_step(const MacroRun& run, const Lookup& lookup, const ActionStep& step, MotionPoint& p, ActionWalk& walk,
+                 Envelope& env) {
+    Evaluated e = evaluate_expr(step.by, &run.spec, lookup, false);
+    if (e.skip) {
+        env.notes.push_back("step " + step.step + " (by " + step.by + ") skipped: " + e.why);
+        return false;
+    }
+    p.expr = "by " + step.by;
+    p.possible = true;
+    if (walk.cur && e.value.known) {
+        double len = std::fabs(e.value.value);
+        walk.cur = Interval{walk.cur->lo - len, walk.cur->hi + len};
+        p.reach = walk.cur;
+        p.worked = "a stroke of " + num(len) + " in a direction the manual does not print: " + num(walk.cur->lo) +
+                   " .. " + num(walk.cur->hi);
+    } else {
+        walk.cur.reset();
+        p.worked = "stroke of unprinted direction; " +
+                   (e.value.known ? std::string("start of the stroke not known") : e.why);
+    }
+    walk.end_known = false;
+    env.end = Val<double>{};
+    return true;
+}
+
+// A step to the + travel limit of the cycle axis (M52 / PM=52).
+void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, ActionWalk& walk, Envelope& env) {
+    p.limit = true;
+    p.mark = "+lim";
+    p.expr = std::string(1, env.axis) + "+ limit";
+    if (auto mx = travel_max(run.config, env.axis)) {
+        p.worked = num(*mx) + " ([machine.travel] " + std::string(1, static_cast<char>(std::tolower(env.axis))) +
+                   " max)";
+        if (p.possible) p.reach = Interval{*mx, *mx};
+        else p.value = Val<double>::of(*mx);
+    } else {
+        p.worked = "the + travel limit ([machine.travel] not configured)";
+    }
+    if (p.possible) {
+        p.worked += " (runs only if " + step.when + ", not known here)";
+        walk.end_known = false;
+    } else {
+        walk.end_known = true;
+        env.end = p.value;
+        walk.cur = p.value.known ? std::optional(Interval{p.value.value, p.value.value}) : std::nullopt;
+    }
+}
+
+// The action steps in order: a point for every step that moves the cycle
+// axis and whose condition is not known to be false.
+void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
+    const std::function<Tri(std::string_view)> atom = [&](std::string_view t) { return run.atom(t); };
+    ActionWalk walk;
+    for (const auto& step : run.spec.action) {
+        Tri cond = step.when.empty() ? Tri::True : eval_condition(step.when, atom);
+        if (cond == Tri::False) continue;
+        MotionPoint p;
+        p.step = step.step;
+        p.label = "step " + step.step;
+        p.text = step.text;
+        p.source = step.source;
+        p.inferred = step.inferred;
+        p.possible = cond == Tri::Unknown;
+        if (!step.target.empty()) {
+            if (!target_step(run, lookup, step, p, walk, env)) continue;
+        } else if (!step.by.empty()) {
+            if (!stroke_step(run, lookup, step, p, walk, env)) continue;
+        } else if (contains_ci(step.text, "+ limit")) {
+            limit_step(run, step, p, walk, env);
+        } else {
+            continue;  // no cycle-axis motion
+        }
+        env.points.push_back(std::move(p));
+    }
+    if (!walk.end_known) env.end = Val<double>{};
+}
+
+// The positioning plane: the start point / hole centre, per axis (the block's
+// own words for a MODIN positioning block, else the macro's position
+// arguments), or the current position when none is given.
+std::map<char, double> plane_centre(const MacroRun& run, Envelope& env) {
+    const Block& b = run.b;
+    const ModalState& before = run.before;
+    const PlaneAxes pa = plane_axes(run.plane);
+    const int pn = run.plane == Plane::G17 ? 17 : run.plane == Plane::G18 ? 18 : 19;
+    std::map<char, double> centre;
+    for (char a : {pa.first, pa.second}) {
+        std::optional<double> v;
+        std::string what;
+        if (run.call.kind == CallKind::ModinPositioning) {
+            if (block_has_axis(b, a)) {
+                v = block_axis_target(b, a, before);
+                what = std::string(1, a);
+            } else if (!b.statement(StmtKind::CoordCalc) && before.axis(a).known) {
+                v = before.axis(a).value;
+                what = "current " + std::string(1, a);
+            }
+        } else {
+            const ArgSpec* pos = nullptr;
+            for (const auto& as : run.spec.args)
+                if (as.role == ArgRole::Position && as.axis(pn) && *as.axis(pn) == a) pos = &as;
+            const MacroArg* m = pos ? given_arg(run.call, pos, pos->name) : nullptr;
+            if (m && m->value.known) {
+                if (before.distance.is(Distance::Absolute)) v = m->value.value;
+                else if (before.distance.is(Distance::Incremental) && before.axis(a).known)
+                    v = before.axis(a).value + m->value.value;
+                what = pos->name;
+            } else if (!m && before.axis(a).known) {
+                v = before.axis(a).value;
+                what = "current " + std::string(1, a);
+            }
+        }
+        if (v) {
+            centre[a] = *v;
+            env.plane_points.push_back({a, *v, what});
+        }
+    }
+    return centre;
+}
+
+// --- Where the motion spreads in the positioning plane --------------------------
+
+// Intervals of the positioning-plane axes, widened from the centre.
+class PlaneSpread {
+public:
+    PlaneSpread(const MacroSpec& spec, const Lookup& lookup, const std::map<char, double>& centre)
+        : spec_(spec), lookup_(lookup), centre_(centre) {}
+
+    // A known argument value (nullopt: not an argument of the macro, or not known).
+    std::optional<double> known(const std::string& n) const {
+        if (!spec_.arg(n)) return std::nullopt;
+        ArgValue v = lookup_(n);
+        if (v.state != ArgValue::State::Known) return std::nullopt;
+        return v.value;
+    }
+    std::optional<double> centre_of(char a) const {
+        if (auto it = centre_.find(a); it != centre_.end()) return it->second;
+        return std::nullopt;
+    }
+    // Widens the interval of axis `a` (which starts at the centre) to reach `v`.
+    void widen(char a, double v) {
+        auto c = centre_of(a);
+        if (!c) return;
+        auto it = spans_.find(a);
+        if (it == spans_.end()) it = spans_.emplace(a, Interval{*c, *c}).first;
+        it->second.lo = std::min(it->second.lo, v);
+        it->second.hi = std::max(it->second.hi, v);
+    }
+    const std::map<char, Interval>& spans() const { return spans_; }
+
+private:
+    const MacroSpec& spec_;
+    const Lookup& lookup_;
+    const std::map<char, double>& centre_;
+    std::map<char, Interval> spans_;
+};
+
+// OG87C: the cutting edge runs round the counterbore circle PC about the
+// centre; steps 3/13 shift the oriented tool by PI/PJ(/PK).
+void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane) {
+    const PlaneAxes pa = plane_axes(plane);
+    const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+    auto d = spread.known("PC");
+    if (!d) return;
+    double r = std::fabs(*d) / 2;
+    for (char a : {pa.first, pa.second})
+        if (auto c = spread.centre_of(a)) {
+            spread.widen(a, *c - r);
+            spread.widen(a, *c + r);
+        }
+    for (const auto& arg : spec.args) {
+        if (arg.role != ArgRole::Shift) continue;
+        auto ax = arg.axis(pn);
+        auto v = spread.known(arg.name);
+        if (!ax || !v || (*ax != pa.first && *ax != pa.second)) continue;
+        if (auto c = spread.centre_of(*ax)) spread.widen(*ax, *c + *v);
+    }
+    for (auto& [a, iv] : spread.spans())
+        env.plane_spans.push_back({a, iv, "counterbore circle PC=" + num(*d) + " about the centre, tool shift", false});
+}
+
+// Keyways and wall finishing: the slot from the start point along PI (keyway:
+// PJ wide; wall finishing: the end-point vector), the start point taken as
+// one end of it.
+void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane) {
+    const PlaneAxes pa = plane_axes(plane);
+    const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+    const ArgSpec* pi = spec.arg("PI");
+    if (!pi) return;
+    auto along = pi->axis(pn);
+    auto len = spread.known("PI");
+    if (!along || !len || (*along != pa.first && *along != pa.second)) return;
+    char across = *along == pa.first ? pa.second : pa.first;
+    auto s = spread.centre_of(*along);
+    if (!s) return;
+    std::string why;
+    if (plane == Plane::G17) {
+        spread.widen(*along, *s + *len);
+        why = "start point to start+PI along " + std::string(1, *along);
+    } else {
+        // The direction of PI outside G17 is not reliably documented: both ways.
+        spread.widen(*along, *s - std::fabs(*len));
+        spread.widen(*along, *s + std::fabs(*len));
+        why = "PI either way along " + std::string(1, *along) + " (direction outside G17 not documented)";
+    }
+    if (spec.family == "keyway") {
+        if (auto w = spread.known("PJ"); w && spread.centre_of(across)) {
+            spread.widen(across, *spread.centre_of(across) - std::fabs(*w) / 2);
+            spread.widen(across, *spread.centre_of(across) + std::fabs(*w) / 2);
+            why += ", width PJ across";
+        }
+    } else {
+        for (const auto& arg : spec.args) {
+            if (arg.role != ArgRole::Vector) continue;
+            auto ax = arg.axis(pn);
+            auto v = spread.known(arg.name);
+            if (!ax || !v) continue;
+            if (*ax == *along) spread.widen(*ax, *s + (plane == Plane::G17 ? *len : std::fabs(*len)) + *v);
+            else if (*ax == across) spread.widen(*ax, *spread.centre_of(across) + *v);
+        }
+    }
+    for (auto& [a, iv] : spread.spans())
+        env.plane_spans.push_back({a, iv, why + " (start point taken as one end)", true});
+}
+
+void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup, Plane plane,
+                     const std::map<char, double>& centre) {
+    PlaneSpread spread(spec, lookup, centre);
+    if (spec.arg("PC") && spec.family == "back-counterbore") {
+        counterbore_spans(env, spec, spread, plane);
+        return;
+    }
+    if (spec.family != "keyway" && spec.family != "wall-finishing") return;
+    slot_spans(env, spec, spread, plane);
+}
+
+}  // namespace
+
+std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
+                                       const MacroCall& call, const MacroSpec& spec, const Config& config) {
+    Envelope env;
+    env.source = MotionSource::Macro;
+    env.name = spec.name;
+    env.call_kind = call.kind;
+    env.line = b.line;
+    env.origin_line = call.kind == CallKind::ModinPositioning ? call.modin_line : 0;
+    if (call.kind == CallKind::GCode)
+        for (const auto& w : b.words)
+            if (w.range == call.name_range) env.code = w.address + (w.number ? num(*w.number) : w.value_text);
+    env.incremental = before.distance.is(Distance::Incremental);
+    if (!before.plane.known) {
+        env.notes.push_back("the plane (G17/G18/G19) is not known here, so neither is the cycle axis");
+        finish(env);
+        return env;
+    }
+    const Plane plane = before.plane.value;
+    env.plane = plane;
+    env.axis = plane_axes(plane).cycle;
+    env.start = before.axis(env.axis);
+
+    const MacroRun run{b, before, after, call, spec, config, plane, env.axis};
+    const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
+    walk_action(run, lookup, env);
+    if (spec.g91_forbidden && env.incremental)
+        env.notes.push_back(spec.name + " does not work under G91 (its motion is shifted); the envelope is the G90 reading");
+    if (before.units.is(Units::Inch) && spec.mm_only)
+        env.notes.push_back(spec.name + " works in mm only; the values are taken as written");
+
+    add_plane_spans(env, spec, lookup, plane, plane_centre(run, env));
+    finish(env);
+    return env;
+}
+
+}  // namespace osplint::motion_detail

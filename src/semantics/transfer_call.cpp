@@ -1,0 +1,132 @@
+// Which macro or subprogram a block runs (resolve_call, see transfer.h): a
+// CALL or MODIN statement, a registered G- or M-code macro, or a positioning
+// block while a MODIN is open; with the arguments evaluated in the state
+// before the block.
+#include "semantics/transfer.h"
+
+#include <cmath>
+#include <string>
+
+#include "catalog/catalog.h"
+#include "semantics/transfer_internal.h"
+
+namespace osplint {
+
+std::string_view call_kind_name(CallKind k) {
+    switch (k) {
+        case CallKind::None: return "none";
+        case CallKind::Call: return "CALL";
+        case CallKind::Modin: return "MODIN";
+        case CallKind::ModinPositioning: return "MODIN positioning";
+        case CallKind::GCode: return "G-code macro";
+        case CallKind::MCode: return "M-code macro";
+    }
+    return "?";
+}
+
+namespace {
+
+std::vector<int> codes(const Block& b, char address) {
+    std::vector<int> out;
+    for (const auto& w : b.words)
+        if (w.address.size() == 1 && w.address[0] == address)
+            if (auto c = code_of(w)) out.push_back(*c);
+    return out;
+}
+
+// Blocks whose X/Y/Z words are not a move of the tool tip in program coordinates.
+bool non_motion_axes(const std::vector<int>& g) {
+    for (int c : g)
+        if (c == 71 || c == 4 || c == 11 || c == 10 || c == 30 || c == 50 || c == 92 || c == 20 ||
+            c == 22 || c == 23)
+            return true;
+    return false;
+}
+
+// A CALL or MODIN statement: the words after the keyword are its arguments.
+MacroCall statement_call(const Block& b, const Statement& st, const Catalog& catalog) {
+    MacroCall call;
+    call.kind = st.kind == StmtKind::Call ? CallKind::Call : CallKind::Modin;
+    call.name = st.name;
+    call.name_range = st.name_range;
+    call.spec = catalog.find(st.name);
+    for (const auto& w : b.words) {
+        if (w.address == "M") {
+            call.m_codes.push_back(&w);
+        } else if (w.address == "Q" && !call.repeat) {
+            call.repeat = &w;
+        } else if (w.range.begin > st.keyword_range.begin) {
+            call.args.push_back(MacroArg{w.address, &w, {}});
+        }
+    }
+    return call;
+}
+
+// A registered G- or M-code macro (the first code of the block that is one);
+// kind None when there is none.
+MacroCall code_call(const Block& b, const Catalog& catalog) {
+    MacroCall call;
+    for (const auto& w : b.words) {
+        if (w.address != "G" && w.address != "M") continue;
+        auto c = code_of(w);
+        if (!c) continue;
+        std::string code = w.address + std::to_string(*c);
+        const MacroSpec* spec = catalog.find_by_code(code);
+        if (!spec) continue;
+        call.kind = w.address == "G" ? CallKind::GCode : CallKind::MCode;
+        call.name = spec->name;
+        call.name_range = w.range;
+        call.spec = spec;
+        for (const auto& a : b.words) {
+            if (&a == &w) continue;
+            if (a.address == "M") {
+                call.m_codes.push_back(&a);
+                continue;
+            }
+            if (a.address == "G") continue;  // other G codes of the block (G90, G98 ...)
+            const ArgSpec* as = spec->arg_for_address(a.address);
+            call.args.push_back(MacroArg{as ? as->name : a.address, &a, {}});
+        }
+        break;
+    }
+    return call;
+}
+
+// A positioning block while a MODIN is open runs the modal macro, with the
+// arguments of the MODIN line.
+std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState& before, const Catalog& catalog) {
+    if (!before.modin.known || !before.modin.value) return std::nullopt;
+    if (b.statement(StmtKind::Modout) || b.statement(StmtKind::Modin)) return std::nullopt;
+    if (non_motion_axes(codes(b, 'G'))) return std::nullopt;
+    if (!has_axis_word(b) && !has_coord_calc(b)) return std::nullopt;
+    const ActiveModin& m = *before.modin.value;
+    MacroCall call;
+    call.kind = CallKind::ModinPositioning;
+    call.name = m.macro;
+    call.spec = catalog.find(m.macro);
+    call.modin_line = m.line;
+    for (const auto& name : m.given) {
+        MacroArg a{name, nullptr, {}};
+        if (auto it = m.values.find(name); it != m.values.end()) a.value = Val<double>::of(it->second);
+        call.args.push_back(std::move(a));
+    }
+    for (const auto& w : b.words)
+        if (w.address == "M") call.m_codes.push_back(&w);
+    return call;
+}
+
+}  // namespace
+
+std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog) {
+    if (b.kind != LineKind::Block) return std::nullopt;
+    const Statement* st = b.statement(StmtKind::Call);
+    if (!st) st = b.statement(StmtKind::Modin);
+    MacroCall call = st ? statement_call(b, *st, catalog) : code_call(b, catalog);
+    if (call.kind == CallKind::None) return modin_positioning_call(b, before, catalog);
+    for (auto& a : call.args)
+        if (a.word)
+            if (auto v = word_value(b, *a.word, before)) a.value = Val<double>::of(*v);
+    return call;
+}
+
+}  // namespace osplint
