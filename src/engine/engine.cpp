@@ -157,6 +157,7 @@ private:
         uint64_t changed = 0;  // when what flows into it last changed
     };
     static constexpr uint32_t kProbeBlocks = 2048;
+    static constexpr uint64_t kHeldBytesPerBlock = 64;  // a generous line length, to guess a loop's blocks from its bytes
     std::map<uint32_t, MaybeState> probes_;  // the state flowing into a probe block, in the last sweep that passed it
     std::map<uint32_t, JoinStamps> join_stamps_;
     uint64_t stamp_ = 0;
@@ -346,7 +347,9 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     // lines when they are few enough.
     std::vector<HeldLine> held;
     std::string held_text;
-    bool holding = options_.held_loop_blocks > 0;
+    // A loop of more bytes than its blocks may be held in would not fit: it
+    // is not even tried (its extent only grows as the sweep finds more).
+    bool holding = options_.held_loop_blocks > 0 && extent - start <= options_.held_loop_blocks * kHeldBytesPerBlock;
     auto hold = [&](const Block& b, const LineRef& l) {
         if (!holding) return;
         if (held.size() >= options_.held_loop_blocks) {
@@ -466,18 +469,32 @@ void Walk::enter(const Block& b, uint32_t offset) {
     if (!pending_offset_.empty())
         if (auto it = pending_offset_.find(offset); it != pending_offset_.end()) by_offset = &it->second;
     if (!by_name && !by_offset) return;  // no path but the one falling into the block
-    MaybeState in;
-    in.reachable = reachable_;
-    if (reachable_) in.state = *A_;
-    if (by_name) in.merge(*by_name);
-    if (by_offset) in.merge(*by_offset);
+    // The merge is made in place, in the state flowing in.
+    bool reachable = reachable_;
+    for (const MaybeState* p : {by_name, by_offset}) {
+        if (!p || !p->reachable) continue;
+        if (reachable) A_->merge(p->state);
+        else *A_ = p->state;
+        reachable = true;
+    }
     if (in_loop_) {
         MaybeState& j = join_[offset];
-        j.merge(in);
-        in = j;
+        if (reachable) {
+            if (j.reachable) {
+                j.state.merge(*A_);
+                *A_ = j.state;
+            } else {
+                j.state = *A_;
+                j.reachable = true;
+            }
+        } else if (j.reachable) {
+            *A_ = j.state;
+            reachable = true;
+        }
         join_stamps_[offset].entered = ++stamp_;
     }
-    set_state(in);
+    reachable_ = reachable;
+    near_ = false;
 }
 
 void Walk::contribute_name(std::string_view name, uint32_t offset) {

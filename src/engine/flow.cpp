@@ -6,7 +6,8 @@
 
 namespace osplint {
 
-ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end) : end_(end), references_(program.references) {
+ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end)
+    : end_(end), references_(program.references.begin(), program.references.end()) {
     flow_ = !program.flow.empty();
     // DO / WHILE n ... END n: the innermost open loop of the same number.
     std::map<int, std::vector<const FlowSite*>> open;
@@ -28,7 +29,7 @@ ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end) : end_(end
                 by_head_[pair.head] = pair;
                 by_end_[pair.end] = pair;
             } else if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty()) {
-                uint32_t& last = last_jump_[st.name];
+                uint32_t& last = last_jump_.try_emplace(st.name, 0).first->second;
                 last = std::max(last, site.offset);
             }
         }
@@ -51,9 +52,7 @@ std::optional<uint32_t> ProgramFlow::last_jump_to(std::string_view name) const {
     return it->second;
 }
 
-bool ProgramFlow::is_referenced(std::string_view name) const {
-    return std::binary_search(references_.begin(), references_.end(), name);
-}
+bool ProgramFlow::is_referenced(std::string_view name) const { return references_.find(name) != references_.end(); }
 
 bool has_flow_statement(const Block& b) {
     for (const auto& st : b.statements)

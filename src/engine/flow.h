@@ -19,6 +19,8 @@
 
 #include <cstdint>
 #include <map>
+#include <unordered_map>
+#include <unordered_set>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -54,11 +56,16 @@ public:
     bool has_flow() const { return flow_; }
 
 private:
+    // Lookups by string_view without a temporary string.
+    struct NameHash {
+        using is_transparent = void;
+        size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+    };
     uint64_t end_ = 0;
     bool flow_ = false;
-    std::map<uint32_t, LoopPair> by_head_, by_end_;
-    std::map<std::string, uint32_t, std::less<>> last_jump_;
-    std::vector<std::string> references_;
+    std::unordered_map<uint32_t, LoopPair> by_head_, by_end_;
+    std::unordered_map<std::string, uint32_t, NameHash, std::equal_to<>> last_jump_;
+    std::unordered_set<std::string, NameHash, std::equal_to<>> references_;
 };
 
 // The edges out of one block. Shared by the walk and by the reference

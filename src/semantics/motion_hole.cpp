@@ -2,7 +2,10 @@
 // cycle (OG84L via G114): the I point, R and Z in absolute terms (seed 004),
 // the macro's own sequence when it has one, the return after the hole (M52 /
 // M53 / M54, else G98 / G99), and the hole position in the positioning plane.
+#include <fmt/format.h>
+
 #include "semantics/motion_internal.h"
+#include "semantics/transfer.h"
 
 namespace osplint::motion_detail {
 
@@ -273,8 +276,8 @@ std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, 
     const MacroSpec* macro = c.macro.empty() ? nullptr : config.catalog.find(c.macro);
     Envelope env;
     env.source = macro ? MotionSource::CycleMacro : MotionSource::FixedCycle;
-    env.name = macro ? macro->name : "G" + std::to_string(c.code);
-    env.code = "G" + std::to_string(c.code);
+    env.code = fmt::format("G{}", c.code);
+    env.name = macro ? macro->name : env.code;
     env.line = b.line;
     env.origin_line = c.start_line;
     env.incremental = before.distance.is(Distance::Incremental);
@@ -297,7 +300,7 @@ std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, 
                                         "R point: rapid changes to cutting feed"));
         env.points.push_back(point_from("Z", "Z point", ax, "Z", levels.z, "004:L9", "Z point: the final depth"));
         if (!macro && !config.catalog.find_cycle(c.code))
-            env.notes.push_back("G" + std::to_string(c.code) + " is not described in the manuals: I -> R -> Z assumed");
+            env.notes.push_back(env.code + " is not described in the manuals: I -> R -> Z assumed");
     }
     const Val<double> r_val =
         levels.r.state == ArgValue::State::Known ? Val<double>::of(levels.r.value) : Val<double>{};

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "semantics/motion_internal.h"
+#include "semantics/transfer.h"
 
 namespace osplint::motion_detail {
 

@@ -1,0 +1,81 @@
+// Points outside `[machine.travel]` (see motion.h): the definite points of an
+// envelope, and the axes a plain positioning block moves to.
+#include <set>
+
+#include "semantics/motion_internal.h"
+
+namespace osplint {
+
+using motion_detail::is_axis_letter;
+using motion_detail::is_cycle_macro;
+using motion_detail::non_motion_block;
+using motion_detail::num;
+
+namespace {
+
+// The cycle axis: the lowest point below the minimum and the highest above
+// the maximum (not the start point, not a trip to the + limit).
+void cycle_axis_violations(const Envelope& env, const TravelLimit& t, std::vector<TravelViolation>& out) {
+    const MotionPoint *below = nullptr, *above = nullptr;
+    for (const auto& p : env.points) {
+        if (p.possible || p.limit || p.start || !p.value.known) continue;
+        if (p.value.value < t.min && (!below || p.value.value < below->value.value)) below = &p;
+        if (p.value.value > t.max && (!above || p.value.value > above->value.value)) above = &p;
+    }
+    auto index = [&](const MotionPoint* p) { return static_cast<int>(p - env.points.data()); };
+    if (below)
+        out.push_back({env.axis, below->value.value, t.min, true, below->describe(), below->inferred, "",
+                       index(below)});
+    if (above)
+        out.push_back({env.axis, above->value.value, t.max, false, above->describe(), above->inferred, "",
+                       index(above)});
+}
+
+}  // namespace
+
+std::vector<TravelViolation> travel_violations(const Envelope& env, const Config& config) {
+    std::vector<TravelViolation> out;
+    if (env.axis)
+        if (auto it = config.travel.find(env.axis); it != config.travel.end())
+            cycle_axis_violations(env, it->second, out);
+    for (const auto& pp : env.plane_points) {
+        if (pp.what.rfind("current", 0) == 0) continue;  // where the tool already is: not a move of this block
+        auto it = config.travel.find(pp.axis);
+        if (it == config.travel.end()) continue;
+        if (pp.value < it->second.min)
+            out.push_back({pp.axis, pp.value, it->second.min, true, "positioning to " + pp.what + " = " + num(pp.value), false,
+                           pp.what, -1});
+        else if (pp.value > it->second.max)
+            out.push_back({pp.axis, pp.value, it->second.max, false, "positioning to " + pp.what + " = " + num(pp.value),
+                           false, pp.what, -1});
+    }
+    return out;
+}
+
+std::vector<TravelViolation> positioning_violations(const Block& b, const ModalState& before, const ModalState& after,
+                                                    const MacroCall* call, const Config& config) {
+    std::vector<TravelViolation> out;
+    if (b.kind != LineKind::Block || config.travel.empty()) return out;
+    if (call && call->kind != CallKind::GCode) return out;  // macros: see their envelopes
+    if (call && call->spec && !is_cycle_macro(*call->spec)) return out;
+    if (is_cycle_hole(b, before, after, call)) return out;  // holes: see their envelopes
+    if (non_motion_block(b) || b.statement(StmtKind::Call) || b.statement(StmtKind::Modin)) return out;
+    const bool in_cycle = after.cycle.known && after.cycle.value;
+    const char cyc = before.plane.known ? plane_axes(before.plane.value).cycle : 0;
+    std::set<char> seen;
+    for (const auto& w : b.words) {
+        if (!is_axis_letter(w.address)) continue;
+        char a = w.address[0];
+        if (in_cycle && a == cyc) continue;  // a cycle depth, not a move
+        if (!seen.insert(a).second) continue;
+        auto it = config.travel.find(a);
+        Val<double> v = after.axis(a);
+        if (it == config.travel.end() || !v.known) continue;
+        std::string what = "positioning " + std::string(1, a) + num(v.value);
+        if (v.value < it->second.min) out.push_back({a, v.value, it->second.min, true, what, false, w.address, -1});
+        else if (v.value > it->second.max) out.push_back({a, v.value, it->second.max, false, what, false, w.address, -1});
+    }
+    return out;
+}
+
+}  // namespace osplint
