@@ -26,6 +26,10 @@ std::string check_source(const std::string& path, ByteSource& src, const Config&
     eo.fold = options.fold;
     eo.outline = options.outline;
     eo.cancel = options.cancel;
+    eo.checkpoint_every = options.checkpoint_every;
+    eo.checkpoints = options.checkpoints;
+    eo.edit = options.edit;
+    eo.resumed_at = options.resumed_at;
     return run_engine(path, src, config, eo, sink, options.stats);
 }
 

@@ -24,6 +24,11 @@ struct AnalysisOptions {
     FileOutline* outline = nullptr;
     const std::atomic<bool>* cancel = nullptr;
     EngineStats* stats = nullptr;
+    // Checkpoints to resume from after an edit (engine.h).
+    uint64_t checkpoint_every = 0;
+    std::vector<Checkpoint>* checkpoints = nullptr;
+    TextChange edit;
+    std::optional<CheckpointPlace>* resumed_at = nullptr;
 };
 
 // Runs the engine over `src` with the built-in rules; findings go to `sink`.

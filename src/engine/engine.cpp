@@ -50,6 +50,77 @@ struct HeldLine {
     uint32_t terminator_size = 0;
 };
 
+}  // namespace
+
+// What a checkpoint holds that no later edit changes.
+struct FrozenWalk {
+    const Config* config = nullptr;
+    std::vector<std::string> only_rules;
+    bool run_rules = true;
+    size_t program = 0;
+    uint32_t offset = 0;
+    uint32_t line = 0;
+    uint64_t diagnostics = 0;
+    uint64_t suppressed = 0;
+    bool seen_main = false;
+    bool subprogram = false;
+    Program program_info;
+    MaybeState flowing;
+    std::unordered_map<std::string, MaybeState> pending_name;
+    std::unordered_map<std::string, std::vector<uint32_t>> defs;
+    MaybeState final_state;
+    std::vector<std::unique_ptr<Rule>> rules;
+    std::vector<bool> used;
+    Positions::Marks marks;
+    std::optional<Folder> folder;
+    std::optional<OccurrenceCounter> occurrences;
+};
+
+struct WalkCheckpoint {
+    std::shared_ptr<const FileOutline> outline;  // of the text it is valid for
+    // States left by loop edges for blocks further on, by their offset in that text.
+    std::map<uint32_t, MaybeState> pending_offset;
+    std::shared_ptr<const FrozenWalk> frozen;
+};
+
+namespace {
+
+int64_t line_ends(std::string_view s) {
+    int64_t n = 0;
+    for (size_t i = 0; i < s.size(); ++i)
+        if (s[i] == '\n' || (s[i] == '\r' && !(i + 1 < s.size() && s[i + 1] == '\n'))) ++n;
+    return n;
+}
+
+}  // namespace
+
+TextChange text_change(std::string_view before, std::string_view after) {
+    const size_t shorter = std::min(before.size(), after.size());
+    size_t prefix = 0;
+    while (prefix < shorter && before[prefix] == after[prefix]) ++prefix;
+    if (prefix > 0 && before[prefix - 1] == '\r') --prefix;  // a CR whose LF may have changed
+    size_t suffix = 0;
+    while (suffix < shorter - prefix && before[before.size() - 1 - suffix] == after[after.size() - 1 - suffix]) ++suffix;
+    // Never an LF without the CR before it, nor the CR of the prefix.
+    while (suffix > 0 && before[before.size() - suffix] == '\n' &&
+           ((before.size() - suffix > prefix && before[before.size() - suffix - 1] == '\r') ||
+            (after.size() - suffix > prefix && after[after.size() - suffix - 1] == '\r')))
+        --suffix;
+    TextChange c;
+    c.prefix = static_cast<uint32_t>(prefix);
+    c.suffix = static_cast<uint32_t>(suffix);
+    c.bytes = static_cast<int64_t>(after.size()) - static_cast<int64_t>(before.size());
+    c.lines = line_ends(after.substr(prefix, after.size() - suffix - prefix)) -
+              line_ends(before.substr(prefix, before.size() - suffix - prefix));
+    return c;
+}
+
+CheckpointPlace checkpoint_place(const WalkCheckpoint& c) {
+    return {c.frozen->offset, c.frozen->line, c.frozen->diagnostics, c.frozen->suppressed};
+}
+
+namespace {
+
 class Walk final : public RuleContext {
 public:
     Walk(const std::string& path, ByteSource& src, const Config& config, const EngineOptions& options,
@@ -82,6 +153,10 @@ private:
 
     // --- the walk
     void walk_program(size_t index);
+    void walk_blocks();
+    void end_program_walk();
+    bool resume_from_checkpoints();
+    void take_checkpoint();
     bool loop_head(const Block& b, uint32_t offset, uint32_t& extent) const;
     void walk_loop(const Block& head, const LineRef& head_line);
     void sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode);
@@ -124,8 +199,15 @@ private:
     bool stop_ = false;
     uint64_t walked_ = 0;
 
+    // --- checkpoints
+    std::shared_ptr<const FileOutline> shared_outline_;
+    uint64_t next_checkpoint_ = 0;
+    uint64_t delivered_diagnostics_ = 0;
+    uint64_t delivered_suppressed_ = 0;
+
     // --- the current program
     size_t program_index_ = 0;
+    bool subprogram_ = false;
     ProgramFlow flow_;
     Program program_;
     bool library_ = false;
@@ -226,7 +308,15 @@ std::string Walk::run() {
         if (!p.name.empty()) names_.insert(p.name);
     library_ = is_subprogram_file(path_);
 
-    for (size_t i = 0; i < outline_.programs.size() && !stop_ && error_.empty(); ++i) walk_program(i);
+    size_t first = 0;
+    if (options_.checkpoints && options_.checkpoint_every)
+        shared_outline_ = std::make_shared<const FileOutline>(outline_);
+    if (options_.checkpoints && resume_from_checkpoints()) {
+        walk_blocks();
+        end_program_walk();
+        first = program_index_ + 1;
+    }
+    for (size_t i = first; i < outline_.programs.size() && !stop_ && error_.empty(); ++i) walk_program(i);
     if (error_.empty() && !stop_ && main_.next_offset() != outline_.size)
         fail("the file changed while it was being checked: check it again");
 
@@ -277,9 +367,9 @@ void Walk::walk_program(size_t index) {
     final_state_ = MaybeState{};
     ++stats_.programs;
 
-    bool subprogram = library_ || po.has_rts;
-    if (po.has_content && !subprogram) {
-        subprogram = seen_main_;
+    subprogram_ = library_ || po.has_rts;
+    if (po.has_content && !subprogram_) {
+        subprogram_ = seen_main_;
         seen_main_ = true;
     }
     program_ = Program{};
@@ -288,29 +378,193 @@ void Walk::walk_program(size_t index) {
     program_.first_block = po.line - 1;
     if (main_.next_offset() != po.offset) main_.seek(po.offset, po.line);
 
-    ProgramView pv{program_, subprogram, nullptr};
+    ProgramView pv{program_, subprogram_, nullptr};
     for (auto& r : rules_) r->begin_program(*this, pv);
-    if (options_.observer) options_.observer->program(program_, subprogram);
+    if (options_.observer) options_.observer->program(program_, subprogram_);
 
-    *A_ = initial_state(config_, subprogram);
+    *A_ = initial_state(config_, subprogram_);
     reachable_ = true;
     near_ = false;
+    walk_blocks();
+    end_program_walk();
+}
+
+void Walk::walk_blocks() {
     Block& b = block_buf_;
     LineRef line;
     while (!stop_ && main_.next_offset() < flow_.end()) {
+        if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
         if (!read(b, line)) break;
         uint32_t extent = 0;
         if (flow_.has_flow() && loop_head(b, line.start, extent)) walk_loop(b, line);
         else visit(b, line, Mode::Rules);
     }
+}
+
+void Walk::end_program_walk() {
     positions_.clear_current();
     block_ = nullptr;
     if (error_.empty() && !(stop_ && options_.observer)) {
         program_.end_block = main_.next_line() - 1;
-        pv.final_state = final_state_.reachable ? &final_state_.state : nullptr;
+        ProgramView pv{program_, subprogram_, final_state_.reachable ? &final_state_.state : nullptr};
         for (auto& r : rules_) r->end_program(*this, pv);
         flush();
     }
+}
+
+// --------------------------------------------------------- checkpoints
+
+void Walk::take_checkpoint() {
+    auto f = std::make_shared<FrozenWalk>();
+    f->config = &config_;
+    f->only_rules = options_.only_rules;
+    f->run_rules = options_.run_rules;
+    f->program = program_index_;
+    f->offset = static_cast<uint32_t>(main_.next_offset());
+    f->line = main_.next_line();
+    f->diagnostics = delivered_diagnostics_;
+    f->suppressed = delivered_suppressed_;
+    f->seen_main = seen_main_;
+    f->subprogram = subprogram_;
+    f->program_info = program_;
+    f->flowing = MaybeState{reachable_, reachable_ ? *A_ : ModalState{}};
+    f->pending_name = pending_name_;
+    f->defs = defs_;
+    f->final_state = final_state_;
+    for (const auto& r : rules_) f->rules.push_back(r->clone());
+    f->used = filter_->used();
+    f->marks = positions_.marks_before(f->line);
+    if (folder_.enabled()) f->folder = folder_;
+    if (fingerprints_) f->occurrences = occurrences_;
+    auto c = std::make_shared<WalkCheckpoint>();
+    c->outline = shared_outline_;
+    c->pending_offset = pending_offset_;
+    c->frozen = std::move(f);
+    options_.checkpoints->push_back(std::move(c));
+    next_checkpoint_ = main_.next_offset() + options_.checkpoint_every;
+}
+
+namespace {
+
+// An old position in the text a checkpoint was taken in, in the text now
+// (nullopt: inside the part that was replaced).
+std::optional<uint32_t> moved(uint32_t offset, uint64_t old_size, const TextChange& e) {
+    if (offset < e.prefix) return offset;
+    if (offset >= old_size - e.suffix) return static_cast<uint32_t>(static_cast<int64_t>(offset) + e.bytes);
+    return std::nullopt;
+}
+
+// Whether the outline of the text now is the old one moved by the change, for
+// what a walk resumed in program `upto` depends on: the programs up to it,
+// every program's name, and every directive.
+bool same_structure(const FileOutline& old, const FileOutline& now, size_t upto, const TextChange& e) {
+    if (old.programs.size() != now.programs.size() || old.directives.size() != now.directives.size()) return false;
+    if (e.prefix > old.size || e.suffix > old.size - e.prefix) return false;
+    auto at = [&](uint32_t offset, uint32_t expected) {
+        const auto m = moved(offset, old.size, e);
+        return m && *m == expected;
+    };
+    auto line_at = [&](uint32_t offset, uint32_t line, uint32_t expected) {
+        return offset < e.prefix ? line == expected : static_cast<int64_t>(line) + e.lines == expected;
+    };
+    auto range_at = [&](ByteRange r, ByteRange expected) {
+        return (r.empty() && expected.empty() && r.begin == expected.begin) ||
+               (at(r.begin, expected.begin) && at(r.end, expected.end));
+    };
+    for (size_t i = 0; i < old.programs.size(); ++i) {
+        const ProgramOutline& a = old.programs[i];
+        const ProgramOutline& b = now.programs[i];
+        if (a.name != b.name) return false;
+        if (i > upto) continue;
+        if (!at(a.offset, b.offset) || !line_at(a.offset, a.line, b.line) || a.has_rts != b.has_rts ||
+            a.has_content != b.has_content || a.references != b.references || a.flow.size() != b.flow.size() ||
+            !(a.name.empty() || range_at(a.name_range, b.name_range)))
+            return false;
+        for (size_t k = 0; k < a.flow.size(); ++k) {
+            const FlowSite& x = a.flow[k];
+            const FlowSite& y = b.flow[k];
+            if (!at(x.offset, y.offset) || !line_at(x.offset, x.line, y.line) || !at(x.next, y.next) ||
+                x.block_delete != y.block_delete || !(x.statements == y.statements))
+                return false;
+        }
+    }
+    if (old.programs.size() > upto + 1 && !at(old.programs[upto + 1].offset, now.programs[upto + 1].offset))
+        return false;
+    for (size_t i = 0; i < old.directives.size(); ++i) {
+        const DirectiveSite& x = old.directives[i];
+        const DirectiveSite& y = now.directives[i];
+        if (!at(x.offset, y.offset) || !line_at(x.offset, x.line, y.line) || x.text != y.text ||
+            x.program != y.program || x.comments.size() != y.comments.size() || x.target.has_value() != y.target.has_value())
+            return false;
+        for (size_t k = 0; k < x.comments.size(); ++k)
+            if (!range_at(x.comments[k], y.comments[k])) return false;
+        if (x.target && (!at(*x.target, *y.target) || !line_at(*x.target, x.target_line, y.target_line))) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+// The checkpoints of the previous analysis that are still valid for this
+// text, moved to it; the walk starts at the last of them. Returns whether it
+// does (false: from the start, with none of the old checkpoints).
+bool Walk::resume_from_checkpoints() {
+    std::vector<Checkpoint> old = std::move(*options_.checkpoints);
+    options_.checkpoints->clear();
+    if (!options_.checkpoint_every) return false;
+    const TextChange& e = options_.edit;
+    for (const Checkpoint& c : old) {
+        const FrozenWalk& f = *c->frozen;
+        if (f.config != &config_ || f.only_rules != options_.only_rules || f.run_rules != options_.run_rules ||
+            f.folder.has_value() != folder_.enabled() || f.occurrences.has_value() != fingerprints_ || !c->outline)
+            break;
+        if (f.offset >= e.prefix || f.program >= outline_.programs.size() ||
+            !same_structure(*c->outline, outline_, f.program, e))
+            break;
+        auto moved_c = std::make_shared<WalkCheckpoint>();
+        moved_c->outline = shared_outline_;
+        moved_c->frozen = c->frozen;
+        bool ok = true;
+        for (const auto& [offset, state] : c->pending_offset) {
+            const auto m = moved(offset, c->outline->size, e);
+            if (!m) ok = false;
+            else moved_c->pending_offset.emplace(*m, state);
+        }
+        if (!ok) break;
+        options_.checkpoints->push_back(std::move(moved_c));
+    }
+    if (options_.checkpoints->empty()) return false;
+    const WalkCheckpoint& c = *options_.checkpoints->back();
+    const FrozenWalk& f = *c.frozen;
+    const ProgramOutline& po = outline_.programs[f.program];
+    program_index_ = f.program;
+    flow_ = ProgramFlow(po, outline_.program_end(f.program));
+    tracks_labels_ = !po.references.empty();
+    pending_name_ = f.pending_name;
+    pending_offset_ = c.pending_offset;
+    defs_ = f.defs;
+    join_.clear();
+    final_state_ = f.final_state;
+    seen_main_ = f.seen_main;
+    subprogram_ = f.subprogram;
+    program_ = f.program_info;
+    rules_.clear();
+    plain_rules_.clear();
+    for (const auto& r : f.rules) rules_.push_back(r->clone());
+    for (auto& r : rules_)
+        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    filter_->set_used(f.used);
+    positions_.restore(f.marks);
+    if (f.folder) folder_ = *f.folder;
+    if (f.occurrences) occurrences_ = *f.occurrences;
+    delivered_diagnostics_ = f.diagnostics;
+    delivered_suppressed_ = f.suppressed;
+    set_state(f.flowing);
+    main_.seek(f.offset, f.line);
+    next_checkpoint_ = f.offset + options_.checkpoint_every;
+    if (options_.resumed_at) *options_.resumed_at = checkpoint_place(c);
+    ++stats_.programs;
+    return true;
 }
 
 // Whether the block starts a loop of the flow graph; `extent` grows to the
@@ -741,6 +995,7 @@ void Walk::flush() {
 
 void Walk::deliver(Diagnostic&& d) {
     if (!speculating_) {
+        ++delivered_diagnostics_;
         sink_.diagnostic(std::move(d));
     } else if (speculative_.size() < kMaxSpeculativeFindings) {
         speculative_.emplace_back(std::move(d), std::nullopt);
@@ -751,6 +1006,7 @@ void Walk::deliver(Diagnostic&& d) {
 
 void Walk::deliver(SuppressedDiagnostic&& s) {
     if (!speculating_) {
+        ++delivered_suppressed_;
         sink_.suppressed(std::move(s));
     } else if (speculative_.size() < kMaxSpeculativeFindings) {
         speculative_.emplace_back(std::nullopt, std::move(s));
@@ -777,8 +1033,8 @@ bool Walk::walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end,
     speculating_ = false;
     if (!stop_ && !loop_changed_ && !speculation_overflow_) {
         for (auto& [d, s] : speculative_) {
-            if (d) sink_.diagnostic(std::move(*d));
-            else sink_.suppressed(std::move(*s));
+            if (d) deliver(std::move(*d));
+            else deliver(std::move(*s));
         }
         speculative_.clear();
         return true;

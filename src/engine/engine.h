@@ -33,6 +33,8 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -62,6 +64,34 @@ public:
     }
 };
 
+// The walk's state before a block, kept so that a later analysis of an edited
+// text can start there (the language server after an edit). Opaque: made and
+// read by the engine only.
+struct WalkCheckpoint;
+using Checkpoint = std::shared_ptr<const WalkCheckpoint>;
+// Where a checkpoint was taken, and how many findings (and suppressed
+// findings) had been handed to the sink by then.
+struct CheckpointPlace {
+    uint32_t offset = 0;
+    uint32_t line = 0;
+    uint64_t diagnostics = 0;
+    uint64_t suppressed = 0;
+};
+CheckpointPlace checkpoint_place(const WalkCheckpoint& c);
+
+// What changed between the text a checkpoint was taken in and the text now:
+// the bytes before `prefix` are the same, and so are the last `suffix` bytes
+// of both (the part between was replaced; `lines` is how many lines the
+// replacement added, or removed when negative).
+struct TextChange {
+    uint32_t prefix = 0;
+    uint32_t suffix = 0;
+    int64_t bytes = 0;  // new size - old size
+    int64_t lines = 0;
+};
+// The change from `before` to `after` (never splitting a CR LF).
+TextChange text_change(std::string_view before, std::string_view after);
+
 struct EngineOptions {
     const RuleRegistry* rules = nullptr;           // required
     const ProgramNames* known_programs = nullptr;  // program names defined outside this input
@@ -76,6 +106,19 @@ struct EngineOptions {
     // Set from another thread to abandon the walk (the engine then reports
     // "cancelled" as its I/O error).
     const std::atomic<bool>* cancel = nullptr;
+    // Checkpoints (the language server): one before the first block outside
+    // loops at or after every `checkpoint_every` bytes (0: none). On input,
+    // `checkpoints` holds those of the previous analysis of this document and
+    // `edit` says how its text changed since; the walk then starts at the last
+    // of them it can (the text before it and the structure it depends on
+    // unchanged), hands the sink only the findings made from there on, and
+    // sets `resumed_at` (the caller keeps the findings made before it). On
+    // output, `checkpoints` holds the earlier ones still valid for the new
+    // text and the new ones.
+    uint64_t checkpoint_every = 0;
+    std::vector<Checkpoint>* checkpoints = nullptr;
+    TextChange edit;
+    std::optional<CheckpointPlace>* resumed_at = nullptr;
 };
 
 // What the engine did (tests and benchmarks).
@@ -95,6 +138,7 @@ struct EngineStats {
 };
 
 inline constexpr std::string_view kCancelled = "cancelled";
+
 
 // Analyses `src` (reported under `path`) and hands the findings to `sink`:
 // begin_file, the findings, end_file. Returns the I/O error ("" when the input

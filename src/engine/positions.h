@@ -85,6 +85,25 @@ public:
 
     static constexpr uint32_t kCheckpointLines = 1024;
 
+    // The line checkpoints up to a line, to start a later walk there.
+    struct Marks {
+        std::vector<std::pair<uint64_t, uint32_t>> offsets_and_lines;
+        uint32_t last_line = 0;
+    };
+    Marks marks_before(uint32_t line) const {
+        Marks m;
+        for (const auto& c : checkpoints_)
+            if (c.line < line) m.offsets_and_lines.emplace_back(c.offset, c.line);
+        m.last_line = line - 1;
+        return m;
+    }
+    void restore(const Marks& m) {
+        checkpoints_.clear();
+        for (const auto& [o, l] : m.offsets_and_lines) checkpoints_.push_back({o, l});
+        if (checkpoints_.empty()) checkpoints_.push_back({0, 1});
+        last_line_ = m.last_line;
+    }
+
 private:
     struct Checkpoint {
         uint64_t offset;

@@ -35,7 +35,7 @@ std::optional<BlockRecord> block_at(const DocumentModel& doc, const Config& conf
     options.known_programs = known;
     options.observer = &stop;
     options.run_rules = false;
-    MemorySource src(doc.source.text());
+    MemorySource src(doc.text());
     Discard sink;
     check_source(doc.path, src, config, options, sink);
     return std::move(stop.found);

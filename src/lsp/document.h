@@ -15,10 +15,26 @@
 
 namespace osplint::lsp {
 
-struct DocumentModel {
+class DocumentModel {
+public:
     std::string path;  // the file path, or the URI of a document without one
-    SourceText source;
     FileOutline outline;
+
+    void set_text(std::string text) {
+        text_ = std::move(text);
+        source_.reset();
+    }
+    const std::string& text() const { return source_ ? source_->text() : text_; }
+    // The text with its line index, made when a request first needs it (an
+    // analysis does not).
+    const SourceText& source() const {
+        if (!source_) source_.emplace(std::move(text_));
+        return *source_;
+    }
+
+private:
+    mutable std::string text_;
+    mutable std::optional<SourceText> source_;
 };
 
 // The block of a 1-based line with the modal state before and after it: the

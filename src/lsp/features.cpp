@@ -360,7 +360,7 @@ std::string argument_doc(const MacroSpec& spec, const ArgSpec& a, int plane, con
 }
 
 json hover(const DocumentModel& doc, const BlockRecord* at, const Config& config, uint32_t offset, Encoding enc) {
-    const SourceText& src = doc.source;
+    const SourceText& src = doc.source();
     const uint32_t line = src.line_of(offset);
     if (line == 0 || line > doc.outline.lines) return nullptr;
     // The block of the line: the walk's record, or the line parsed on its own.
@@ -693,7 +693,7 @@ json code_actions(const std::string& uri, const json& params, const SourceText& 
 
 json document_symbols(const DocumentModel& doc, Encoding enc) {
     json out = json::array();
-    const SourceText& src = doc.source;
+    const SourceText& src = doc.source();
     const auto& programs = doc.outline.programs;
     FastLineParser parser;
     Block b;

@@ -462,27 +462,51 @@ void Server::update_model(Model& m, Job& job) {
     }
     const auto t0 = Clock::now();
     m.doc.path = job.path ? *job.path : job.uri;
-    m.doc.source = SourceText(std::move(job.text));
+    // An edit: the analysis starts at the last checkpoint before it, when the
+    // configuration and the known programs are those of the last analysis.
+    ProgramNames known_before = std::move(m.known);
+    collect_known(m, job.path);
+    TextChange edit;
+    const bool resumable = m.config == lookup.config && known_before == m.known && !m.checkpoints.empty();
+    if (resumable) edit = text_change(m.doc.text(), job.text);
+    else m.checkpoints.clear();
+    m.doc.set_text(std::move(job.text));
     m.version = job.version;
     m.config = lookup.config;
     m.hovered.reset();
-    collect_known(m, job.path);
-    ResultCollector collect(false);
+
+    struct Produced final : DiagnosticSink {
+        void diagnostic(Diagnostic&& d) override { out.push_back(std::move(d)); }
+        std::vector<Diagnostic> out;
+    } produced;
     AnalysisOptions opts;
     opts.known_programs = &m.known;
     opts.outline = &m.doc.outline;
     opts.cancel = job.outdated.get();
-    MemorySource src(m.doc.source.text());
-    if (check_source(m.doc.path, src, *m.config, opts, collect) == kCancelled) {
+    // A checkpoint every 1/32 of the document (at least every 64 KiB).
+    opts.checkpoint_every = std::max<uint64_t>(uint64_t(64) << 10, m.doc.text().size() / 32);
+    opts.checkpoints = &m.checkpoints;
+    opts.edit = edit;
+    std::optional<CheckpointPlace> resumed_at;
+    opts.resumed_at = &resumed_at;
+    MemorySource src(m.doc.text());
+    if (check_source(m.doc.path, src, *m.config, opts, produced) == kCancelled) {
         m.version = -1;  // half analysed: the analysis of the newer text follows
+        m.checkpoints.clear();
+        m.produced.clear();
         throw Outdated{};
     }
-    // The same findings as `osplint check`: directives in the file apply.
-    m.diagnostics = std::move(collect.take().diagnostics);
+    // The findings made before the checkpoint the analysis started at stand.
+    if (resumed_at) m.produced.resize(std::min<size_t>(m.produced.size(), resumed_at->diagnostics));
+    else m.produced.clear();
+    for (auto& d : produced.out) m.produced.push_back(std::move(d));
+    m.diagnostics = m.produced;
+    std::stable_sort(m.diagnostics.begin(), m.diagnostics.end(), diagnostic_less);
     if (options_.log_timing) {
         const auto t1 = Clock::now();
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-        log(job.uri + " v" + std::to_string(job.version) + ": analysed in " + std::to_string(ms(t0, t1)) + " ms, " +
+        log(job.uri + " v" + std::to_string(job.version) + ": analysed in " + std::to_string(ms(t0, t1)) + " ms" +
+            (resumed_at ? " from line " + std::to_string(resumed_at->line) : std::string(" from the start")) + ", " +
             std::to_string(m.diagnostics.size()) + " finding(s)");
     }
 }
@@ -519,6 +543,8 @@ void Server::run_job(Job& job) {
             send(make_notification("window/showMessage",
                                    {{"type", 1}, {"message", std::string("osplint: analysis failed: ") + e.what()}}));
             m.diagnostics.clear();
+            m.produced.clear();
+            m.checkpoints.clear();
             m.hovered.reset();
             if (!m.config) m.config = configs_.get(std::nullopt).config;
         }
@@ -548,7 +574,7 @@ void Server::run_job(Job& job) {
 json Server::answer(const Pending& p, Model& m, bool current) {
     const bool is_hover = p.method == "textDocument/hover";
     if (!current) return is_hover ? json(nullptr) : json::array();
-    const SourceText& source = m.doc.source;
+    const SourceText& source = m.doc.source();
     if (p.method == "textDocument/documentSymbol") return document_symbols(m.doc, encoding_);
     if (p.method == "textDocument/codeAction") {
         field(p.params, "context");

@@ -35,8 +35,9 @@
 namespace osplint::lsp {
 
 struct ServerOptions {
-    // Quiet time after an edit before the analysis starts.
-    std::chrono::milliseconds debounce{10};
+    // Quiet time after an edit before the analysis starts (an analysis of an
+    // outdated text stops as soon as the next edit arrives, so it can be short).
+    std::chrono::milliseconds debounce{2};
     // Diagnostics about the server itself (stderr for `osplint lsp`).
     std::function<void(const std::string&)> log;
     // Also log the time each analysis took (parse, rules, publish).
@@ -113,7 +114,9 @@ private:
         DocumentModel doc;
         std::shared_ptr<const Config> config;
         ProgramNames known;
-        std::vector<Diagnostic> diagnostics;
+        std::vector<Diagnostic> diagnostics;   // sorted, as published
+        std::vector<Diagnostic> produced;      // the same in the order the engine made them
+        std::vector<Checkpoint> checkpoints;   // where the next analysis may start after an edit
         std::optional<BlockRecord> hovered;  // the block of the last hover, for this version
     };
 

@@ -513,3 +513,88 @@ TEST_CASE("engine: a set cancel flag stops the walk") {
     CHECK(stats.blocks_parsed < 2048);
     CHECK(sink.take().io_error == kCancelled);
 }
+
+namespace {
+
+// The findings in the order the engine hands them over.
+struct InOrder final : DiagnosticSink {
+    bool wants_fingerprints() const override { return true; }
+    void diagnostic(Diagnostic&& d) override { diagnostics.push_back(std::move(d)); }
+    void suppressed(SuppressedDiagnostic&& s) override { suppressed_list.push_back(std::move(s)); }
+    std::vector<Diagnostic> diagnostics;
+    std::vector<SuppressedDiagnostic> suppressed_list;
+};
+
+FileResult sorted(const std::string& path, std::vector<Diagnostic> d, std::vector<SuppressedDiagnostic> s) {
+    FileResult r;
+    r.path = path;
+    r.diagnostics = std::move(d);
+    r.suppressed = std::move(s);
+    std::stable_sort(r.diagnostics.begin(), r.diagnostics.end(), diagnostic_less);
+    std::stable_sort(r.suppressed.begin(), r.suppressed.end(),
+                     [](const SuppressedDiagnostic& a, const SuppressedDiagnostic& b) {
+                         return diagnostic_less(a.diagnostic, b.diagnostic);
+                     });
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh analysis gives") {
+    const auto files = corpus_files();
+    std::vector<std::pair<fs::path, std::string>> texts;
+    for (const auto& f : files) texts.emplace_back(f, read_all(f));
+    for (uint32_t seed = 1; seed <= 40; ++seed) texts.emplace_back("gen.min", Generator(seed).program());
+    std::mt19937 rng(5150);
+    int resumed = 0, runs = 0;
+    for (const auto& [path, original] : texts) {
+        const Config config = config_for(path);
+        std::string text = original;
+        std::vector<Checkpoint> checkpoints;
+        InOrder previous;
+        {
+            AnalysisOptions o;
+            o.checkpoint_every = 64;
+            o.checkpoints = &checkpoints;
+            MemorySource src(text);
+            check_source(path.string(), src, config, o, previous);
+        }
+        for (int k = 0; k < 6; ++k) {
+            const std::string edited = mutate(text, rng);
+            AnalysisOptions o;
+            o.checkpoint_every = 64;
+            o.checkpoints = &checkpoints;
+            o.edit = text_change(text, edited);
+            std::optional<CheckpointPlace> at;
+            o.resumed_at = &at;
+            MemorySource src(edited);
+            // The findings made before the checkpoint are kept by the caller.
+            InOrder fresh_part;
+            check_source(path.string(), src, config, o, fresh_part);
+            std::vector<Diagnostic> d;
+            std::vector<SuppressedDiagnostic> s;
+            if (at) {
+                ++resumed;
+                d.assign(previous.diagnostics.begin(), previous.diagnostics.begin() + static_cast<long>(at->diagnostics));
+                s.assign(previous.suppressed_list.begin(),
+                         previous.suppressed_list.begin() + static_cast<long>(at->suppressed));
+            }
+            for (auto& x : fresh_part.diagnostics) d.push_back(x);
+            for (auto& x : fresh_part.suppressed_list) s.push_back(x);
+            const std::string got = dump_result(sorted(path.string(), d, s));
+            const std::string expected = dump_result(check_text(path.string(), edited, config));
+            ++runs;
+            if (got != expected) {
+                FAIL_CHECK(path.string() << " edit " << k << (at ? " (resumed)" : "") << "\n-- fresh:\n"
+                                         << expected << "-- resumed:\n"
+                                         << got);
+                break;
+            }
+            previous.diagnostics = std::move(d);
+            previous.suppressed_list = std::move(s);
+            text = edited;
+        }
+    }
+    MESSAGE(resumed << " of " << runs << " analyses resumed from a checkpoint");
+    CHECK(resumed > runs / 4);
+}
