@@ -15,21 +15,8 @@ namespace osplint {
 
 std::string check_source(const std::string& path, ByteSource& src, const Config& config,
                          const AnalysisOptions& options, DiagnosticSink& sink) {
-    EngineOptions eo;
-    eo.rules = &builtin_rules();
-    eo.known_programs = options.known_programs;
-    eo.only_rules = options.only_rules;
-    eo.chunk_size = options.chunk_size;
-    eo.held_loop_blocks = options.held_loop_blocks;
-    eo.observer = options.observer;
-    eo.run_rules = options.run_rules;
-    eo.fold = options.fold;
-    eo.outline = options.outline;
-    eo.cancel = options.cancel;
-    eo.checkpoint_every = options.checkpoint_every;
-    eo.checkpoints = options.checkpoints;
-    eo.edit = options.edit;
-    eo.resumed_at = options.resumed_at;
+    EngineOptions eo = options;
+    if (!eo.rules) eo.rules = &builtin_rules();
     return run_engine(path, src, config, eo, sink, options.stats);
 }
 

@@ -13,22 +13,10 @@
 
 namespace osplint {
 
-struct AnalysisOptions {
-    const ProgramNames* known_programs = nullptr;  // program names defined outside the input
-    std::vector<std::string> only_rules;           // only these rules (IDs); empty: the enabled ones
-    size_t chunk_size = size_t(1) << 20;
-    size_t held_loop_blocks = 8192;
-    BlockObserver* observer = nullptr;
-    bool run_rules = true;
-    uint64_t fold = 0;  // findings of one kind shown per file before the others fold (0: off)
-    FileOutline* outline = nullptr;
-    const std::atomic<bool>* cancel = nullptr;
+// The engine's options (engine/engine.h); the rules are the built-in ones
+// unless `rules` names others.
+struct AnalysisOptions : EngineOptions {
     EngineStats* stats = nullptr;
-    // Checkpoints to resume from after an edit (engine.h).
-    uint64_t checkpoint_every = 0;
-    std::vector<Checkpoint>* checkpoints = nullptr;
-    TextChange edit;
-    std::optional<CheckpointPlace>* resumed_at = nullptr;
 };
 
 // Runs the engine over `src` with the built-in rules; findings go to `sink`.

@@ -117,44 +117,29 @@ public:
 
     bool wants_fingerprints() const override { return owner_.sink_.wants_fingerprints(); }
     void begin_file(const std::string& path) override {
-        std::unique_lock lock(m_);
-        if (direct_) {
-            lock.unlock();
-            std::lock_guard out(owner_.m_);
-            owner_.sink_.begin_file(path);
-            return;
-        }
-        std::string e(1, static_cast<char>(Event::Begin));
-        put_str(e, path);
-        spool(e);
+        forward([&](DiagnosticSink& sink) { sink.begin_file(path); },
+                [&](std::string& e) {
+                    e += static_cast<char>(Event::Begin);
+                    put_str(e, path);
+                });
     }
     void diagnostic(Diagnostic&& d) override {
-        std::unique_lock lock(m_);
-        if (direct_) {
-            lock.unlock();
-            std::lock_guard out(owner_.m_);
-            owner_.sink_.diagnostic(std::move(d));
-            return;
-        }
-        std::string e(1, static_cast<char>(Event::Diagnostic));
-        encode_diagnostic(e, d);
-        spool(e);
+        forward([&](DiagnosticSink& sink) { sink.diagnostic(std::move(d)); },
+                [&](std::string& e) {
+                    e += static_cast<char>(Event::Diagnostic);
+                    encode_diagnostic(e, d);
+                });
     }
     void suppressed(SuppressedDiagnostic&& s) override {
-        std::unique_lock lock(m_);
-        if (direct_) {
-            lock.unlock();
-            std::lock_guard out(owner_.m_);
-            owner_.sink_.suppressed(std::move(s));
-            return;
-        }
-        std::string e(1, static_cast<char>(Event::Suppressed));
-        encode_diagnostic(e, s.diagnostic);
-        put_u32(e, static_cast<uint32_t>(s.kind));
-        put_str(e, s.reason);
-        e += s.file_scope ? '1' : '0';
-        put_opt_range(e, s.directive);
-        spool(e);
+        forward([&](DiagnosticSink& sink) { sink.suppressed(std::move(s)); },
+                [&](std::string& e) {
+                    e += static_cast<char>(Event::Suppressed);
+                    encode_diagnostic(e, s.diagnostic);
+                    put_u32(e, static_cast<uint32_t>(s.kind));
+                    put_str(e, s.reason);
+                    e += s.file_scope ? '1' : '0';
+                    put_opt_range(e, s.directive);
+                });
     }
     void end_file(const std::string& path, const std::string& io_error) override {
         std::unique_lock lock(m_);
@@ -187,6 +172,20 @@ public:
     void make_direct() { direct_ = true; }
 
 private:
+    // Straight to the sink when it is this file's turn, else into the spool.
+    template <class Direct, class Encode>
+    void forward(Direct&& direct, Encode&& encode) {
+        std::unique_lock lock(m_);
+        if (direct_) {
+            lock.unlock();
+            std::lock_guard out(owner_.m_);
+            direct(owner_.sink_);
+            return;
+        }
+        std::string e;
+        encode(e);
+        spool(e);
+    }
     void spool(const std::string& event) {
         std::string framed;
         put_u64(framed, event.size());

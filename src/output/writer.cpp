@@ -51,6 +51,14 @@ const char* color_of(Severity s) {
     return "";
 }
 
+// The word each format uses for a severity.
+std::string_view level(Severity s, std::string_view info) {
+    return s == Severity::Error ? "error" : s == Severity::Warning ? "warning" : info;
+}
+std::string_view gcc_severity(Severity s) { return level(s, "note"); }
+std::string_view github_command(Severity s) { return level(s, "notice"); }
+std::string_view sarif_level(Severity s) { return level(s, "note"); }
+
 std::string dump(const ojson& j) { return j.dump(-1, ' ', false, ojson::error_handler_t::replace); }
 
 ojson range_json(const SourceRange& r) {
@@ -75,15 +83,6 @@ private:
 
 // ------------------------------------------------------------------- gcc
 
-std::string_view gcc_severity(Severity s) {
-    switch (s) {
-        case Severity::Error: return "error";
-        case Severity::Warning: return "warning";
-        case Severity::Info: return "note";
-    }
-    return "error";
-}
-
 class GccWriter final : public ReportWriter {
 public:
     explicit GccWriter(std::ostream& out) : out_(out) {}
@@ -102,15 +101,6 @@ private:
 };
 
 // ---------------------------------------------------------------- github
-
-std::string_view github_command(Severity s) {
-    switch (s) {
-        case Severity::Error: return "error";
-        case Severity::Warning: return "warning";
-        case Severity::Info: return "notice";
-    }
-    return "error";
-}
 
 class GithubWriter final : public ReportWriter {
 public:
@@ -232,15 +222,6 @@ private:
 };
 
 // ----------------------------------------------------------------- sarif
-
-std::string_view sarif_level(Severity s) {
-    switch (s) {
-        case Severity::Error: return "error";
-        case Severity::Warning: return "warning";
-        case Severity::Info: return "note";
-    }
-    return "error";
-}
 
 std::string percent_encode(std::string_view s) {
     static const char* hex = "0123456789ABCDEF";
