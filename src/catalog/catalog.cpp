@@ -59,7 +59,9 @@ std::string normalize_code(std::string_view code) {
     for (char c : digits)
         if (!std::isdigit(static_cast<unsigned char>(c))) return {};
     while (digits.size() > 1 && digits.front() == '0') digits.remove_prefix(1);
-    return std::string(1, letter) + std::string(digits);
+    std::string out(1, letter);
+    out += digits;
+    return out;
 }
 
 bool is_name(std::string_view s) {

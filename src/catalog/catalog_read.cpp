@@ -673,6 +673,7 @@ Catalog Catalog::from_toml_text(std::string_view text, std::string origin) {
         }
     }
     return cat;
+}
 
 void Catalog::merge(const toml::table& macros_table, const std::string& origin) {
     // Stage every change first so that a bad entry leaves the catalog unchanged.
