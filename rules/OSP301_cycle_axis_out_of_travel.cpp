@@ -53,6 +53,10 @@ public:
                 ByteRange where = v.block.range;
                 for (const auto& w : v.block.words)
                     if (w.address.size() == 1 && w.address[0] == t.axis) where = w.range;
+                // A wrong offset puts every move out of travel: after the first
+                // few of a kind, the others are only counted (engine/fold.h).
+                const char key[] = {'P', t.axis, t.below ? '-' : '+', '\0'};
+                if (ctx.folded(kMeta, key, where)) continue;
                 auto& d = ctx.report(kMeta, where,
                                      fmt_move(t) + " the " + std::string(1, t.axis) + " travel " +
                                          (t.below ? "minimum " : "maximum ") + motion_number(t.limit));
@@ -69,6 +73,8 @@ public:
             } else if (const Word* w = v.block.find(t.name)) {
                 where = w->range;
             }
+            const std::string key = env->title() + ' ' + t.axis + (t.below ? '-' : '+');
+            if (ctx.folded(kMeta, key, where)) continue;
             double by = std::fabs(t.value - t.limit);
             std::string msg = env->title() + " takes " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
                               motion_number(by) + (t.below ? " below" : " above") + " the " + std::string(1, t.axis) +

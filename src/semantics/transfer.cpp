@@ -17,6 +17,10 @@
 
 namespace osplint {
 
+using transfer_detail::has_axis_word;
+using transfer_detail::has_coord_calc;
+using transfer_detail::is_axis_address;
+
 std::optional<double> word_value(const Block& b, const Word& w, const ModalState& s) {
     if (w.number) return w.number;
     if (w.value != kNoExpr) return evaluate(b, w.value, s);

@@ -12,6 +12,9 @@
 
 namespace osplint {
 
+using transfer_detail::has_axis_word;
+using transfer_detail::has_coord_calc;
+
 std::string_view call_kind_name(CallKind k) {
     switch (k) {
         case CallKind::None: return "none";

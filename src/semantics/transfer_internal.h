@@ -7,7 +7,7 @@
 
 #include "syntax/model.h"
 
-namespace osplint {
+namespace osplint::transfer_detail {
 
 inline bool is_axis_address(std::string_view a) {
     return a.size() == 1 && (a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z' || a[0] == 'A' || a[0] == 'B' ||
@@ -26,4 +26,4 @@ inline bool has_coord_calc(const Block& b) {
     return false;
 }
 
-}  // namespace osplint
+}  // namespace osplint::transfer_detail
