@@ -1,4 +1,6 @@
 // OSP003 duplicate-sequence-name: a sequence name defined twice in one program.
+// Off by default: posts restart or wrap their numbers, and a duplicate only
+// matters when a jump names it, which OSP006 reports.
 #include <array>
 #include <cstdint>
 #include <map>
@@ -12,7 +14,7 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{"OSP003", "duplicate-sequence-name", Severity::Warning,
-                         "A sequence name is defined twice in one program"};
+                         "A sequence name is defined twice in one program", false};
 
 // The first definition of each name is kept, for the note, for the first
 // kKeepFirst names of a program. Beyond that, names of the form N<digits>

@@ -136,6 +136,7 @@ public:
     std::string_view path() const override { return path_; }
     std::string_view text(ByteRange r) const override;
     bool has_label(std::string_view name) const override;
+    bool is_jump_target(std::string_view name) const override { return flow_.is_referenced(name); }
     bool has_program(std::string_view name) const override;
     std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const override {
         return evaluate(block, e, state);

@@ -52,7 +52,9 @@ std::optional<uint32_t> ProgramFlow::last_jump_to(std::string_view name) const {
     return it->second;
 }
 
-bool ProgramFlow::is_referenced(std::string_view name) const { return references_.find(name) != references_.end(); }
+bool ProgramFlow::is_referenced(std::string_view name) const {
+    return !references_.empty() && references_.find(name) != references_.end();
+}
 
 bool has_flow_statement(const Block& b) {
     for (const auto& st : b.statements)

@@ -54,6 +54,9 @@ public:
     // end_program for the names its jumps and N words reference (the engine
     // learns a program's sequence names as it walks it, and keeps only those).
     virtual bool has_label(std::string_view name) const = 0;
+    // Whether a GOTO, an IF or an N word of the current program names `name`
+    // (known for the whole program from its begin_program on).
+    virtual bool is_jump_target(std::string_view name) const = 0;
     // Whether a program of that name is defined in the checked files.
     virtual bool has_program(std::string_view name) const = 0;
     // Value of an expression of `block` in `state`, when it can be known.

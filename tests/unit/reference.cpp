@@ -5,6 +5,7 @@
 #include <optional>
 #include <queue>
 #include <unordered_map>
+#include <unordered_set>
 
 #include <fmt/format.h>
 
@@ -45,6 +46,7 @@ public:
     bool has_label(std::string_view name) const override {
         return labels_ && labels_->count(std::string(name)) > 0;
     }
+    bool is_jump_target(std::string_view name) const override { return targets_.count(std::string(name)) > 0; }
     bool has_program(std::string_view name) const override {
         for (const auto& p : file_.programs)
             if (p.name == name) return true;
@@ -76,6 +78,15 @@ public:
     void set_program(const Program* p, const std::unordered_map<std::string, std::vector<uint32_t>>* labels) {
         program_ = p;
         labels_ = labels;
+        targets_.clear();
+        if (!p) return;
+        for (uint32_t i = p->first_block; i < p->end_block && i < file_.blocks.size(); ++i) {
+            const Block& b = file_.blocks[i];
+            for (const auto& st : b.statements)
+                if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty()) targets_.insert(st.name);
+            for (const auto& w : b.words)
+                if (w.address == "N" && !w.value_text.empty()) targets_.insert("N" + w.value_text);
+        }
     }
 
     std::vector<Diagnostic> diagnostics;
@@ -86,6 +97,7 @@ private:
     const ProgramNames* known_;
     const Program* program_ = nullptr;
     const std::unordered_map<std::string, std::vector<uint32_t>>* labels_ = nullptr;
+    std::unordered_set<std::string> targets_;  // names the program's jumps and N words reference
     std::map<std::string, int> occurrences_;
 };
 

@@ -304,15 +304,17 @@ TEST_CASE("lsp: diagnostics: code, link, severity, notes, fixes in data, version
     CHECK((*d)["data"]["version"] == 3);
     CHECK((*d)["data"]["fixes"][0]["edits"][0]["newText"] == "PM=52");
 
-    // Notes with a range become relatedInformation (OSP003: duplicate sequence name).
+    // Notes with a range become relatedInformation (OSP006: a jump to a duplicated name).
     const std::string uri2 = "untitled:DUP.MIN";
-    s.open(uri2, "O1\nN10 G0 X0\nN10 G0 X1\nM30\n");
+    s.open(uri2, "O1\nN10 G0 X0\nN10 G0 X1\nGOTO N10\nM30\n");
     json p2 = s.diagnostics(uri2);
-    const json* dup = find_code(p2["diagnostics"], "OSP003");
+    const json* dup = find_code(p2["diagnostics"], "OSP006");
     REQUIRE(dup);
     REQUIRE(dup->contains("relatedInformation"));
     CHECK((*dup)["relatedInformation"][0]["location"]["uri"] == uri2);
     CHECK((*dup)["relatedInformation"][0]["location"]["range"]["start"]["line"] == 1);
+    CHECK((*dup)["relatedInformation"][1]["location"]["range"]["start"]["line"] == 2);
+    CHECK(find_code(p2["diagnostics"], "OSP003") == nullptr);  // off by default
 
     s.notify("textDocument/didClose", {{"textDocument", td(kUri)}});
     json cleared = s.diagnostics(kUri);

@@ -1,0 +1,80 @@
+// OSP006 jump-to-duplicated-name: a GOTO or IF names a sequence name that
+// the program defines more than once.
+//
+// Only the names some jump or N word references are kept (the engine knows
+// them from the outline before the walk), so a posted program that numbers
+// every block, and restarts its numbers, costs no memory here.
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "engine/rule.h"
+
+namespace osplint {
+namespace {
+
+constexpr RuleMeta kMeta{"OSP006", "jump-to-duplicated-name", Severity::Warning,
+                         "A GOTO or IF jumps to a sequence name the program defines more than once"};
+
+// Definitions kept per name for the notes; the rest are only counted.
+constexpr size_t kNotedDefinitions = 8;
+
+class JumpToDuplicatedName final : public RuleBase<JumpToDuplicatedName> {
+public:
+    const RuleMeta& meta() const override { return kMeta; }
+    void begin_program(RuleContext&, const ProgramView&) override {
+        defs_.clear();
+        jumps_.clear();
+        set_wants_plain_moves(false);  // a definition has a sequence name, and those blocks come anyway
+    }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        if (v.block.sequence && ctx.is_jump_target(v.block.sequence->name)) {
+            Defs& d = defs_[v.block.sequence->name];
+            if (d.ranges.size() < kNotedDefinitions) d.ranges.push_back(v.block.sequence->range);
+            ++d.count;
+        }
+        for (const auto& st : v.block.statements)
+            if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty())
+                jumps_.push_back({st.name, st.name_range});
+    }
+    void end_program(RuleContext& ctx, const ProgramView&) override {
+        for (const Jump& j : jumps_) {
+            auto it = defs_.find(j.name);
+            if (it == defs_.end() || it->second.count < 2) continue;
+            const Defs& d = it->second;
+            std::string lines;
+            for (size_t i = 0; i < d.ranges.size(); ++i) {
+                if (i) lines += i + 1 == d.ranges.size() && d.count == d.ranges.size() ? " and " : ", ";
+                lines += std::to_string(ctx.resolve(d.ranges[i]).start.line);
+            }
+            if (d.count > d.ranges.size()) lines += " and " + std::to_string(d.count - d.ranges.size()) + " more";
+            auto& diag = ctx.report(kMeta, j.range,
+                                    "jump target " + j.name + " is defined " + std::to_string(d.count) +
+                                        " times in this program (lines " + lines +
+                                        "): the manuals do not say which of them the control reaches, so "
+                                        "osplint follows the jump to every one of them");
+            for (const ByteRange& r : d.ranges) diag.notes.push_back({j.name + " defined here", ctx.resolve(r)});
+            diag.notes.push_back({"give each block a name of its own, or jump to a name defined once", std::nullopt});
+        }
+        jumps_.clear();
+        defs_.clear();
+    }
+
+private:
+    struct Defs {
+        std::vector<ByteRange> ranges;  // the first kNotedDefinitions
+        size_t count = 0;
+    };
+    struct Jump {
+        std::string name;
+        ByteRange range;
+    };
+    std::unordered_map<std::string, Defs> defs_;  // names jumped to: the program's structure
+    std::vector<Jump> jumps_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rule> make_rule_OSP006() { return std::make_unique<JumpToDuplicatedName>(); }
+
+}  // namespace osplint
