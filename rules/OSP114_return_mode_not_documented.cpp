@@ -15,7 +15,9 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
-        if (!spec || spec->m53 != M53Mode::Undocumented || !macro::is_subprogram_macro(*spec)) return;
+        // Both families of wall-finishing macros: OLPEX/OLPEY document PM=52
+        // only, their predecessors OLAPX/OLAPY neither PM nor PT.
+        if (!spec || spec->m53 != M53Mode::Undocumented) return;
         if (c->kind != CallKind::Call && c->kind != CallKind::Modin) return;
         for (double code : {53.0, 54.0}) {
             const Word* w = macro::m_code(*c, code);
@@ -24,7 +26,9 @@ public:
                                  "M" + macro::format_number(code) + " on the call of " + spec->name +
                                      ": its manual documents no M53/M54 return and no PT, so where the tool ends "
                                      "after the cycle is not defined; remove it and retract explicitly");
-            d.notes.push_back({"the format of " + spec->name + " lists only PM=52 (" + spec->manual + ")",
+            d.notes.push_back({"the format of " + spec->name +
+                                   (macro::is_subprogram_macro(*spec) ? " lists only PM=52 (" : " lists neither PM nor PT (") +
+                                   spec->manual + ")",
                                std::nullopt});
         }
     }
