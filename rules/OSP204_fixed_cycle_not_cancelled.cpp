@@ -50,7 +50,10 @@ public:
     void end_program(RuleContext& ctx, const ProgramView& p) override {
         if (!p.final_state) return;
         const ActiveCycle* c = active_cycle(*p.final_state);
-        if (!c) return;
+        if (!c) {
+            report_uncancelled(ctx, p);
+            return;
+        }
         ByteRange where = c->start_range;
         if (where.empty()) {
             if (!end_block_) return;
@@ -65,6 +68,29 @@ public:
     }
 
 private:
+    // No cycle is known to be modal at the end, but one was started and no G80
+    // ended it: a G0/G1/G2/G3 came after it, which may or may not end a fixed
+    // cycle on the control. Either way the manual asks for G80.
+    void report_uncancelled(RuleContext& ctx, const ProgramView& p) const {
+        const ModalState& s = *p.final_state;
+        if (s.cycle.known || !s.uncancelled.known || !s.uncancelled.value) return;
+        const OpenCycle& o = *s.uncancelled.value;
+        if (o.start.empty()) return;
+        ActiveCycle c;
+        c.code = o.code;
+        c.macro = o.macro;
+        auto& d = ctx.report(kMeta, o.start,
+                             cycle_name(c) + " is never cancelled before the program " +
+                                 (p.is_subprogram ? "returns" : "ends") +
+                                 ": a G0, G1, G2 or G3 follows it, but whether an interpolation code ends a fixed "
+                                 "cycle is not documented, so the cycle may still be modal (seed 004 L22: \"check that "
+                                 "the G80 cancel code is commanded\"); command " +
+                                 cancel_hint(ctx, c) + " after the last hole");
+        d.notes.push_back({"osplint reads the cycle as perhaps still modal after the interpolation code; positioning "
+                           "blocks after it may machine holes",
+                           std::nullopt});
+    }
+
     std::optional<ByteRange> end_block_;
 };
 

@@ -28,7 +28,8 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         const ActiveCycle* c = active_cycle(v.after);
-        if (!c || b.has_code("G", 80) || reversed_cycle(c->code)) return;
+        // G80 alone ends the cycle; `G80 G83 ...` starts the next one, checked here.
+        if (!c || (b.has_code("G", 80) && c->start_line != b.line) || reversed_cycle(c->code)) return;
         const char axis = cycle_axis(v.after);
         if (!axis || !v.after.distance.known) return;
         const std::string axis_name(1, axis);

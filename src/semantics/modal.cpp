@@ -74,6 +74,7 @@ void ModalState::merge(const ModalState& o) {
     g71_level.merge(o.g71_level);
     return_level.merge(o.return_level);
     merge_cycle(cycle, o.cycle);
+    uncancelled.merge(o.uncancelled);
     cycle_return.merge(o.cycle_return);
     modin.merge(o.modin);
     spindle.merge(o.spindle);

@@ -67,6 +67,16 @@ struct ActiveCycle {
     bool known_absent(const std::string& address) const { return words_known && !words.count(address); }
 };
 
+// A fixed cycle that was started and that no G80 (or cancel macro) has ended
+// since. A G0/G1/G2/G3 leaves open whether the cycle is still modal (`cycle`
+// unknown), but not this: the manual asks for G80 in any case.
+struct OpenCycle {
+    int code = 0;
+    std::string macro;
+    ByteRange start;  // the G word that started it
+    friend bool operator==(const OpenCycle&, const OpenCycle&) = default;
+};
+
 // The macro of an open MODIN, with its arguments as commanded.
 struct ActiveModin {
     std::string macro;  // "OG87C"
@@ -92,6 +102,7 @@ struct ModalState {
     Val<double> g71_level;               // G71 Z..
     Val<int> return_level;               // 52, 53, 54; 0 = none commanded yet (G98/G99 decide)
     Val<std::optional<ActiveCycle>> cycle;    // known none / known cycle / unknown
+    Val<std::optional<OpenCycle>> uncancelled;  // known none / a cycle no G80 ended / unknown
     Val<CycleReturn> cycle_return;            // G98 / G99
     Val<std::optional<ActiveModin>> modin;    // known none / known MODIN / unknown
     Val<int> spindle;                    // 3, 4, 5 (M843 counts as 3, M845 as 5)

@@ -152,8 +152,10 @@ bool is_cycle_hole(const Block& b, const ModalState& before, const ModalState& a
     (void)before;
     if (b.kind != LineKind::Block) return false;
     if (!after.cycle.known || !after.cycle.value) return false;
-    // Positioning only: NCYL, G100, NOEX (one-shots of the block), G80.
-    if (after.ncyl || after.g100 || after.noex || has_code(b, 'G', 80)) return false;
+    // Positioning only: NCYL, G100, NOEX (one-shots of the block), G80 (unless
+    // the block starts a new cycle after it: `G80 G83 X.. Z.. R..`).
+    if (after.ncyl || after.g100 || after.noex) return false;
+    if (has_code(b, 'G', 80) && after.cycle.value->start_line != b.line) return false;
     if (b.statement(StmtKind::Ncyl) || b.statement(StmtKind::Noex) || has_code(b, 'G', 100)) return false;
     for (int c : {4, 71, 92, 50, 22, 23})
         if (has_code(b, 'G', c)) return false;

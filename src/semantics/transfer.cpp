@@ -72,6 +72,7 @@ ModalState initial_state(const Config& config, bool subprogram) {
     s.units = Val<Units>::of(config.units);
     s.distance = Val<Distance>::of(config.distance);
     s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
+    s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
     s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
     s.overrides_disabled = Val<bool>::of(false);
     s.return_level = Val<int>::of(0);
@@ -212,6 +213,7 @@ void end_fixed_cycle(const Block& b, ModalState& s) {
         s.spindle_stopped_by = Val<uint32_t>::of(b.line);
     }
     s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
+    s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
     // Whether G80 resets M52/M53/M54 is not documented: a return level
     // stays known only when none was commanded.
     if (!s.return_level.is(0)) s.return_level = Val<int>{};
@@ -260,6 +262,7 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
         s.cutter_comp = Val<int>{};
         s.length_offset = Val<bool>{};
         s.cycle = Val<std::optional<ActiveCycle>>{};
+        s.uncancelled = Val<std::optional<OpenCycle>>{};
         positions_unknown = true;
     }
     if (has(f.gs, 20) && f.b.find("HP")) positions_unknown = true;  // G20 HP=n: home position (Multus)
@@ -391,6 +394,7 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
     }
     if (f.cycle_cancel_macro) {
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
+        s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
         s.overrides_disabled = Val<bool>::of(false);
         s.spindle = Val<int>::of(5);  // "the spindle stops too" (seed 003 L193, A-45)
         s.spindle_stopped_by = Val<uint32_t>::of(b.line);
@@ -411,6 +415,7 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
             if (cyc_axis) c.initial = before.axis(cyc_axis);
         }
         update_cycle(c, b, before, cyc_axis);
+        s.uncancelled = Val<std::optional<OpenCycle>>::of(OpenCycle{c.code, c.macro, c.start_range});
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::move(c));
     } else if (s.cycle.known && s.cycle.value && !f.g80) {
         if (f.interpolation) {
@@ -518,7 +523,9 @@ void move_tool(const BlockFacts& f, const CycleContext& cc, int cycle_code, Moda
 void apply_tool_position(const BlockFacts& f, int cycle_code, bool positions_unknown, ModalState& s) {
     const Block& b = f.b;
     CycleContext cc;
-    cc.in_cycle = s.cycle.known && s.cycle.value && !f.g80;
+    // `G80 G83 X.. Z.. R..` ends the old cycle and starts a new one, whose
+    // first hole is machined in that block.
+    cc.in_cycle = s.cycle.known && s.cycle.value && (!f.g80 || cycle_code != 0);
     // Whether a cycle is modal is not known: the block may machine a hole,
     // unless it commands an interpolation (then its words are a move).
     cc.maybe_cycle = !s.cycle.known && !f.g80 && !f.interpolation;
