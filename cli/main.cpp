@@ -109,7 +109,16 @@ int cmd_explain(const std::string& what_in) {
         std::cout << defaults.catalog.render_card(*spec, false);
         return 0;
     }
-    std::cerr << "osplint: '" << what_in << "' is neither a rule ID (see `osplint rules`) nor a macro in the catalog\n";
+    // A fixed cycle by its G code: G81, g83.
+    if (what.size() > 1 && what[0] == 'G' && what.size() <= 4 &&
+        std::all_of(what.begin() + 1, what.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        if (const CycleSpec* cycle = defaults.catalog.find_cycle(std::stoi(what.substr(1)))) {
+            std::cout << defaults.catalog.render_card(*cycle, false);
+            return 0;
+        }
+    std::cerr << "osplint: '" << what_in
+              << "' is neither a rule ID (see `osplint rules`), a macro or G/M code of the catalog, nor a fixed "
+                 "cycle\n";
     return 2;
 }
 
@@ -128,8 +137,8 @@ int main(int argc, char** argv) {
     auto* rules_cmd = app.add_subcommand("rules", "List every rule: ID, name, default severity, summary");
 
     std::string explain_what;
-    auto* explain_cmd = app.add_subcommand("explain", "Print a rule's documentation or a macro's card");
-    explain_cmd->add_option("what", explain_what, "A rule ID (OSP104) or a macro name (OZAGR, G114)")->required();
+    auto* explain_cmd = app.add_subcommand("explain", "Print a rule's documentation, a macro's card or a fixed cycle's card");
+    explain_cmd->add_option("what", explain_what, "A rule ID (OSP104), a macro name or code (OZAGR, G114) or a fixed cycle (G81)")->required();
 
     std::string config_file;
     std::string config_dir = ".";

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# `osplint explain`: rule pages, macro cards by name and by code, fixed-cycle
+# cards by G code (any case), and a clear error for anything else.
+set -u
+osplint=$(realpath "${1:?usage: explain.sh path/to/osplint}")
+cd "$(mktemp -d)" || exit 2  # no osplint.toml around: the built-in catalog
+fail=0
+expect() {  # expect NAME EXIT PATTERN -- ARGS...
+  local name=$1 code=$2 pattern=$3
+  shift 4
+  local out rc
+  out=$("$osplint" "$@" 2>&1)
+  rc=$?
+  if [[ $rc != "$code" ]]; then
+    echo "FAIL: $name: exit $rc, expected $code"; printf '%s\n' "$out" | head -5; fail=1
+  elif ! grep -Eq -- "$pattern" <<<"$out"; then
+    echo "FAIL: $name: output lacks /$pattern/"; printf '%s\n' "$out" | head -5; fail=1
+  else
+    echo "ok: $name"
+  fi
+}
+expect "fixed cycle G81" 0 '^G81 ' -- explain G81
+expect "fixed cycle, lower case" 0 '^G83 ' -- explain g83
+expect "fixed cycle card has its format" 0 'G84' -- explain G84
+expect "macro by code" 0 '^OG84L ' -- explain G114
+expect "macro by name" 0 '^OZAGR ' -- explain ozagr
+expect "rule page" 0 '^# OSP006 jump-to-duplicated-name' -- explain OSP006
+expect "rule off by default says so" 0 'Off by default' -- explain OSP003
+expect "unknown G code" 2 "'G999' is neither a rule ID" -- explain G999
+expect "unknown name" 2 "'NOPE' is neither a rule ID" -- explain NOPE
+exit $fail
