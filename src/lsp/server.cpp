@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <set>
 
 #include "api/check.h"
 #include "api/config.h"
 #include "osplint/osplint.h"
 #include "lsp/features.h"
+#include "lsp/navigation.h"
 #include "support/errors.h"
 #include "support/text.h"
 
@@ -34,6 +36,31 @@ std::string uri_of(const json& params) {
     const json& uri = field(td, "uri");
     if (!uri.is_string()) throw std::invalid_argument("textDocument.uri must be a string");
     return uri.get<std::string>();
+}
+
+// The requests answered from a document's model, and what they answer for a
+// document that is not open (or closed while the request waited).
+struct DocumentRequest {
+    std::string_view method;
+    bool null_when_empty;  // null, else an empty array
+};
+constexpr DocumentRequest kDocumentRequests[] = {
+    {"textDocument/hover", true},          {"textDocument/completion", false},
+    {"textDocument/codeAction", false},    {"textDocument/documentSymbol", false},
+    {"textDocument/definition", true},     {"textDocument/references", false},
+    {"textDocument/documentHighlight", false}, {"textDocument/prepareRename", true},
+    {"textDocument/rename", true},
+};
+
+const DocumentRequest* document_request(std::string_view method) {
+    for (const auto& r : kDocumentRequests)
+        if (r.method == method) return &r;
+    return nullptr;
+}
+
+json empty_result(std::string_view method) {
+    const DocumentRequest* r = document_request(method);
+    return r && r->null_when_empty ? json(nullptr) : json::array();
 }
 
 bool ends_with_ci(std::string_view s, std::string_view suffix) {
@@ -179,8 +206,7 @@ void Server::on_request(const json& id, const std::string& method, const json& p
         send(make_response(id, nullptr));
         return;
     }
-    if (method == "textDocument/hover" || method == "textDocument/completion" || method == "textDocument/codeAction" ||
-        method == "textDocument/documentSymbol") {
+    if (document_request(method)) {
         const std::string uri = uri_of(params);
         {
             std::lock_guard lock(m_);
@@ -192,7 +218,7 @@ void Server::on_request(const json& id, const std::string& method, const json& p
             }
         }
         // Not an open document.
-        send(make_response(id, method == "textDocument/hover" ? json(nullptr) : json::array()));
+        send(make_response(id, empty_result(method)));
         return;
     }
     send(make_error(id, error::kMethodNotFound, "method not supported: " + method));
@@ -270,6 +296,10 @@ json Server::initialize(const json& params) {
         {"completionProvider", {{"triggerCharacters", json::array({" "})}, {"resolveProvider", false}}},
         {"codeActionProvider", {{"codeActionKinds", json::array({"quickfix"})}}},
         {"documentSymbolProvider", true},
+        {"definitionProvider", true},
+        {"referencesProvider", true},
+        {"documentHighlightProvider", true},
+        {"renameProvider", {{"prepareProvider", true}}},
     };
     return json{{"capabilities", capabilities},
                 {"serverInfo", {{"name", "osplint"}, {"version", std::string(version())}}}};
@@ -290,7 +320,7 @@ void Server::did_open(const json& params) {
     d.generation = next_generation_++;
     if (auto it = docs_.find(uri); it != docs_.end()) {
         for (const auto& p : it->second.pending)
-            send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+            send(make_response(p.id, empty_result(p.method)));
         it->second.outdate();
     }
     docs_[uri] = std::move(d);
@@ -330,7 +360,7 @@ void Server::did_close(const json& params) {
     auto it = docs_.find(uri);
     if (it == docs_.end()) return;
     for (const auto& p : it->second.pending)
-        send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+        send(make_response(p.id, empty_result(p.method)));
     it->second.outdate();
     docs_.erase(it);
     send(make_notification("textDocument/publishDiagnostics", {{"uri", uri}, {"diagnostics", json::array()}}));
@@ -534,7 +564,7 @@ void Server::run_job(Job& job) {
                 cv_.notify_all();
             } else {
                 for (const auto& p : job.pending)
-                    send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+                    send(make_response(p.id, empty_result(p.method)));
             }
             return;
         } catch (const std::exception& e) {
@@ -571,9 +601,31 @@ void Server::run_job(Job& job) {
     }
 }
 
+std::vector<OtherDocument> Server::other_documents(const Model& m, std::vector<DiskDocument>& disk) {
+    std::vector<OtherDocument> out;
+    std::set<std::string> open;
+    std::optional<std::string> own;
+    for (const auto& [uri, other] : models_) {
+        if (&other == &m) {
+            own = uri_to_path(uri);
+            if (own) open.insert(fs::path(*own).lexically_normal().string());
+            continue;
+        }
+        if (other.version < 0) continue;  // never analysed to its end
+        out.push_back({uri, &other.doc});
+        if (auto path = uri_to_path(uri)) open.insert(fs::path(*path).lexically_normal().string());
+    }
+    if (own) {
+        fs::path dir = fs::path(*own).parent_path();
+        disk = sibling_documents(dir.empty() ? fs::path(".") : dir, open);
+        for (const auto& d : disk) out.push_back({d.uri, &d.doc});
+    }
+    return out;
+}
+
 json Server::answer(const Pending& p, Model& m, bool current) {
     const bool is_hover = p.method == "textDocument/hover";
-    if (!current) return is_hover ? json(nullptr) : json::array();
+    if (!current) return empty_result(p.method);
     const SourceText& source = m.doc.source();
     if (p.method == "textDocument/documentSymbol") return document_symbols(m.doc, encoding_);
     if (p.method == "textDocument/codeAction") {
@@ -581,6 +633,23 @@ json Server::answer(const Pending& p, Model& m, bool current) {
         return code_actions(uri_of(p.params), p.params, source, m.version, encoding_);
     }
     const uint32_t offset = from_lsp_position(source, field(p.params, "position"), encoding_);
+    if (p.method == "textDocument/definition" || p.method == "textDocument/references") {
+        std::vector<DiskDocument> disk;
+        std::vector<OtherDocument> others;
+        if (name_at(m.doc, offset).kind == NameAt::Program) others = other_documents(m, disk);
+        if (p.method == "textDocument/definition") return definition(m.doc, uri_of(p.params), offset, others, encoding_);
+        bool declaration = true;
+        if (p.params.contains("context") && p.params["context"].is_object())
+            declaration = p.params["context"].value("includeDeclaration", true);
+        return references(m.doc, uri_of(p.params), offset, declaration, others, encoding_);
+    }
+    if (p.method == "textDocument/documentHighlight") return document_highlight(m.doc, offset, encoding_);
+    if (p.method == "textDocument/prepareRename") return prepare_rename(m.doc, offset, encoding_);
+    if (p.method == "textDocument/rename") {
+        const json& name = field(p.params, "newName");
+        if (!name.is_string()) throw std::invalid_argument("newName must be a string");
+        return rename(m.doc, uri_of(p.params), offset, name.get<std::string>(), encoding_);
+    }
     const uint32_t line = source.line_of(offset);
     if (is_hover) return hover(m.doc, block_of(m, line), *m.config, offset, encoding_);
     // Completion: the line up to the cursor, the programs known here.

@@ -29,6 +29,7 @@
 #include "engine/workspace.h"
 #include "lsp/document.h"
 #include "lsp/jsonrpc.h"
+#include "lsp/navigation.h"
 #include "lsp/text.h"
 #include "semantics/config.h"
 
@@ -148,6 +149,8 @@ private:
     void update_model(Model& m, Job& job);
     const BlockRecord* block_of(Model& m, uint32_t line);
     json answer(const Pending& p, Model& m, bool current);
+    // The other open documents and the subprogram files beside `m`'s (kept in `disk`).
+    std::vector<OtherDocument> other_documents(const Model& m, std::vector<DiskDocument>& disk);
     std::optional<std::filesystem::path> config_dir(const std::optional<std::string>& path) const;
     void collect_known(Model& m, const std::optional<std::string>& path);
 
