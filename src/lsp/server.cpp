@@ -10,6 +10,7 @@
 #include "osplint/osplint.h"
 #include "lsp/features.h"
 #include "lsp/navigation.h"
+#include "lsp/structure.h"
 #include "support/errors.h"
 #include "support/text.h"
 
@@ -49,7 +50,8 @@ constexpr DocumentRequest kDocumentRequests[] = {
     {"textDocument/codeAction", false},    {"textDocument/documentSymbol", false},
     {"textDocument/definition", true},     {"textDocument/references", false},
     {"textDocument/documentHighlight", false}, {"textDocument/prepareRename", true},
-    {"textDocument/rename", true},
+    {"textDocument/rename", true},         {"textDocument/foldingRange", false},
+    {"textDocument/semanticTokens/full", true}, {"textDocument/semanticTokens/range", true},
 };
 
 const DocumentRequest* document_request(std::string_view method) {
@@ -206,6 +208,12 @@ void Server::on_request(const json& id, const std::string& method, const json& p
         send(make_response(id, nullptr));
         return;
     }
+    if (method == "workspace/symbol") {
+        std::lock_guard lock(m_);
+        workspace_pending_.push_back({id, method, params});
+        cv_.notify_all();
+        return;
+    }
     if (document_request(method)) {
         const std::string uri = uri_of(params);
         {
@@ -300,6 +308,9 @@ json Server::initialize(const json& params) {
         {"referencesProvider", true},
         {"documentHighlightProvider", true},
         {"renameProvider", {{"prepareProvider", true}}},
+        {"foldingRangeProvider", true},
+        {"semanticTokensProvider", {{"legend", semantic_tokens_legend()}, {"full", true}, {"range", true}}},
+        {"workspaceSymbolProvider", true},
     };
     return json{{"capabilities", capabilities},
                 {"serverInfo", {{"name", "osplint"}, {"version", std::string(version())}}}};
@@ -415,6 +426,20 @@ void Server::worker_loop() {
             const auto due = d.changed + options_.debounce;
             if (due <= now && !pick) pick = &d;
             next_due = std::min(next_due, due);
+        }
+        if (!workspace_pending_.empty()) {
+            std::vector<Pending> work = std::move(workspace_pending_);
+            workspace_pending_.clear();
+            lock.unlock();
+            for (const auto& p : work) {
+                try {
+                    send(make_response(p.id, workspace_symbol(p.params)));
+                } catch (const std::exception& e) {
+                    send(make_error(p.id, error::kInternalError, e.what()));
+                }
+            }
+            lock.lock();
+            continue;
         }
         if (!pick) {
             if (next_due == Clock::time_point::max())
@@ -623,11 +648,46 @@ std::vector<OtherDocument> Server::other_documents(const Model& m, std::vector<D
     return out;
 }
 
+json Server::workspace_symbol(const json& params) {
+    std::string query;
+    if (params.is_object() && params.contains("query") && params["query"].is_string()) query = params["query"];
+    std::vector<SymbolSource> sources;
+    std::vector<std::string> open;
+    std::set<std::string> dirs;
+    for (const auto& [uri, m] : models_) {
+        if (m.version < 0) continue;
+        // Not owned: the models outlive this request.
+        sources.push_back({uri, std::shared_ptr<const DocumentModel>(std::shared_ptr<void>(), &m.doc)});
+        if (auto path = uri_to_path(uri)) {
+            open.push_back(fs::path(*path).lexically_normal().string());
+            dirs.insert(fs::path(*path).parent_path().string());
+        }
+    }
+    // The workspace folder (and below); without one, the folders of the open documents.
+    std::vector<SymbolSource> disk;
+    if (root_) {
+        disk = folder_documents(fs::path(*root_), open);
+    } else {
+        for (const auto& d : dirs) {
+            for (auto& s : folder_documents(fs::path(d), open, 2000))
+                if (fs::path(s.doc->path).parent_path() == fs::path(d)) disk.push_back(std::move(s));
+        }
+    }
+    for (auto& d : disk) sources.push_back(std::move(d));
+    return workspace_symbols(sources, query, encoding_);
+}
+
 json Server::answer(const Pending& p, Model& m, bool current) {
     const bool is_hover = p.method == "textDocument/hover";
     if (!current) return empty_result(p.method);
     const SourceText& source = m.doc.source();
     if (p.method == "textDocument/documentSymbol") return document_symbols(m.doc, encoding_);
+    if (p.method == "textDocument/foldingRange") return folding_ranges(m.doc);
+    if (p.method == "textDocument/semanticTokens/full") return semantic_tokens(m.doc, encoding_);
+    if (p.method == "textDocument/semanticTokens/range") {
+        const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);
+        return semantic_tokens(m.doc, encoding_, source.line_of(r.begin), source.line_of(r.end));
+    }
     if (p.method == "textDocument/codeAction") {
         field(p.params, "context");
         return code_actions(uri_of(p.params), p.params, source, m.version, encoding_);

@@ -149,6 +149,7 @@ private:
     void update_model(Model& m, Job& job);
     const BlockRecord* block_of(Model& m, uint32_t line);
     json answer(const Pending& p, Model& m, bool current);
+    json workspace_symbol(const json& params);
     // The other open documents and the subprogram files beside `m`'s (kept in `disk`).
     std::vector<OtherDocument> other_documents(const Model& m, std::vector<DiskDocument>& disk);
     std::optional<std::filesystem::path> config_dir(const std::optional<std::string>& path) const;
@@ -166,6 +167,7 @@ private:
     std::condition_variable cv_;
     std::map<std::string, Document> docs_;
     bool stop_ = false;
+    std::vector<Pending> workspace_pending_;  // workspace/symbol requests for the worker
     uint64_t next_generation_ = 1;
 
     // Worker thread only.
