@@ -146,17 +146,21 @@ std::vector<DiskDocument> sibling_documents(const fs::path& dir, const std::set<
         std::ifstream in(p, std::ios::binary);
         if (!in) continue;
         std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        DiskDocument d;
-        d.uri = path_to_uri(p.string());
-        d.doc.path = p.string();
-        MemorySource src(text);
-        OutlineOptions options;
-        options.names_only = true;
-        d.doc.outline = outline_file(src, options);
-        d.doc.set_text(std::move(text));
-        out.push_back(std::move(d));
+        out.push_back(outlined_document(path_to_uri(p.string()), p.string(), std::move(text)));
     }
     return out;
+}
+
+DiskDocument outlined_document(std::string uri, std::string path, std::string text) {
+    DiskDocument d;
+    d.uri = std::move(uri);
+    d.doc.path = std::move(path);
+    MemorySource src(text);
+    OutlineOptions options;
+    options.names_only = true;
+    d.doc.outline = outline_file(src, options);
+    d.doc.set_text(std::move(text));
+    return d;
 }
 
 // --- what the position names ----------------------------------------------------

@@ -30,11 +30,13 @@ struct OtherDocument {
     const DocumentModel* doc = nullptr;
 };
 
-// A subprogram file read from disk, with its outline (program names only).
+// A document read from disk (a subprogram file) or copied from the editor's
+// text (another open document), with its outline (program names only).
 struct DiskDocument {
     std::string uri;
     DocumentModel doc;
 };
+DiskDocument outlined_document(std::string uri, std::string path, std::string text);
 
 // The subprogram files (.SSB .SUB .LIB .MSB, any case) of `dir`, except the
 // paths in `skip` (open documents) and files over 64 MiB.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <tuple>
 #include <set>
 
 #include "api/check.h"
@@ -124,7 +125,9 @@ ConfigCache::Lookup ConfigCache::get(const std::optional<fs::path>& dir) {
 
 Server::Server(InputStream& in, OutputStream& out, ServerOptions options)
     : reader_(in), writer_(out), options_(std::move(options)) {
-    worker_ = std::thread([this] { worker_loop(); });
+    unsigned n = options_.workers;
+    if (n == 0) n = std::clamp(std::thread::hardware_concurrency(), 2u, 4u);
+    for (unsigned i = 0; i < n; ++i) workers_.emplace_back([this] { worker_loop(); });
 }
 
 Server::~Server() {
@@ -134,7 +137,8 @@ Server::~Server() {
         for (auto& [uri, d] : docs_) d.outdate();  // a running analysis stops
     }
     cv_.notify_all();
-    if (worker_.joinable()) worker_.join();
+    for (auto& w : workers_)
+        if (w.joinable()) w.join();
 }
 
 void Server::send(const json& message) { writer_.send(message); }
@@ -406,26 +410,13 @@ void Server::worker_loop() {
     std::unique_lock lock(m_);
     for (;;) {
         if (stop_) return;
-        // Forget the models of closed documents.
+        // Forget the models of closed documents (not one a worker holds).
         for (auto it = models_.begin(); it != models_.end();) {
             auto d = docs_.find(it->first);
-            if (d == docs_.end() || d->second.generation != it->second.generation)
+            if (!busy_.count(it->first) && (d == docs_.end() || d->second.generation != it->second->generation))
                 it = models_.erase(it);
             else
                 ++it;
-        }
-        const auto now = Clock::now();
-        Document* pick = nullptr;
-        auto next_due = Clock::time_point::max();
-        for (auto& [uri, d] : docs_) {
-            if (!d.pending.empty()) {  // a request waits: no debounce
-                pick = &d;
-                break;
-            }
-            if (!d.dirty) continue;
-            const auto due = d.changed + options_.debounce;
-            if (due <= now && !pick) pick = &d;
-            next_due = std::min(next_due, due);
         }
         if (!workspace_pending_.empty()) {
             std::vector<Pending> work = std::move(workspace_pending_);
@@ -441,6 +432,22 @@ void Server::worker_loop() {
             lock.lock();
             continue;
         }
+        // A document no other worker holds: one with a request waiting first
+        // (no debounce), else one whose quiet time after an edit is over.
+        const auto now = Clock::now();
+        Document* pick = nullptr;
+        auto next_due = Clock::time_point::max();
+        for (auto& [uri, d] : docs_) {
+            if (busy_.count(uri)) continue;
+            if (!d.pending.empty()) {
+                pick = &d;
+                break;
+            }
+            if (!d.dirty) continue;
+            const auto due = d.changed + options_.debounce;
+            if (due <= now && !pick) pick = &d;
+            next_due = std::min(next_due, due);
+        }
         if (!pick) {
             if (next_due == Clock::time_point::max())
                 cv_.wait(lock);
@@ -453,8 +460,10 @@ void Server::worker_loop() {
         job.path = pick->path;
         job.generation = pick->generation;
         job.version = pick->version;
-        auto model = models_.find(job.uri);
-        if (pick->dirty || model == models_.end() || model->second.generation != job.generation) {
+        std::unique_ptr<Model>& slot = models_[job.uri];
+        if (!slot) slot = std::make_unique<Model>();
+        Model& model = *slot;  // stays in place while busy_ holds its URI
+        if (pick->dirty || model.generation != job.generation) {
             job.has_text = true;
             job.text = pick->text;
             pick->dirty = false;
@@ -462,14 +471,17 @@ void Server::worker_loop() {
         job.pending = std::move(pick->pending);
         pick->pending.clear();
         job.outdated = pick->outdated;
+        busy_.insert(job.uri);
         lock.unlock();
         try {
-            run_job(job);
+            run_job(job, model);
         } catch (const std::exception& e) {
             log(std::string("analysis failed: ") + e.what());
             for (const auto& p : job.pending) send(make_error(p.id, error::kInternalError, e.what()));
         }
         lock.lock();
+        busy_.erase(job.uri);
+        cv_.notify_all();  // its requests that came meanwhile, and the other workers
     }
 }
 
@@ -488,10 +500,10 @@ void Server::collect_known(Model& m, const std::optional<std::string>& path) {
     // Subprogram files beside the document (.SSB/.SUB/.LIB/.MSB).
     if (path) directories_.add_names(fs::path(*path).parent_path(), m.known);
     // Programs of the other open documents, as last analysed.
+    std::lock_guard lock(m_);
     for (const auto& [uri, other] : models_) {
-        if (&other == &m) continue;
-        for (const auto& p : other.doc.outline.programs)
-            if (!p.name.empty()) m.known.insert(p.name);
+        if (other.get() == &m) continue;
+        for (const auto& name : other->program_names) m.known.insert(name);
     }
 }
 
@@ -516,6 +528,7 @@ void Server::update_model(Model& m, Job& job) {
         m.generation = job.generation;
     }
     const auto t0 = Clock::now();
+    if (options_.log_timing) log(job.uri + " v" + std::to_string(job.version) + ": analysis started");
     m.doc.path = job.path ? *job.path : job.uri;
     // An edit: the analysis starts at the last checkpoint before it, when the
     // configuration and the known programs are those of the last analysis.
@@ -557,6 +570,13 @@ void Server::update_model(Model& m, Job& job) {
     for (auto& d : produced.out) m.produced.push_back(std::move(d));
     m.diagnostics = m.produced;
     std::stable_sort(m.diagnostics.begin(), m.diagnostics.end(), diagnostic_less);
+    {
+        std::vector<std::string> names;
+        for (const auto& p : m.doc.outline.programs)
+            if (!p.name.empty()) names.push_back(p.name);
+        std::lock_guard lock(m_);
+        m.program_names = std::move(names);
+    }
     if (options_.log_timing) {
         const auto t1 = Clock::now();
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
@@ -571,8 +591,7 @@ const BlockRecord* Server::block_of(Model& m, uint32_t line) {
     return m.hovered ? &*m.hovered : nullptr;
 }
 
-void Server::run_job(Job& job) {
-    Model& m = models_[job.uri];
+void Server::run_job(Job& job, Model& m) {
     if (job.has_text) {
         try {
             update_model(m, job);
@@ -626,54 +645,56 @@ void Server::run_job(Job& job) {
     }
 }
 
-std::vector<OtherDocument> Server::other_documents(const Model& m, std::vector<DiskDocument>& disk) {
-    std::vector<OtherDocument> out;
+std::vector<OtherDocument> Server::other_documents(const std::string& uri, std::vector<DiskDocument>& loaded) {
     std::set<std::string> open;
-    std::optional<std::string> own;
-    for (const auto& [uri, other] : models_) {
-        if (&other == &m) {
-            own = uri_to_path(uri);
-            if (own) open.insert(fs::path(*own).lexically_normal().string());
-            continue;
+    std::vector<std::tuple<std::string, std::string, std::string>> texts;  // uri, path, text
+    {
+        std::lock_guard lock(m_);
+        for (const auto& [u, d] : docs_) {
+            if (d.path) open.insert(fs::path(*d.path).lexically_normal().string());
+            if (u != uri) texts.emplace_back(u, d.path.value_or(u), d.text);
         }
-        if (other.version < 0) continue;  // never analysed to its end
-        out.push_back({uri, &other.doc});
-        if (auto path = uri_to_path(uri)) open.insert(fs::path(*path).lexically_normal().string());
     }
-    if (own) {
+    for (auto& [u, path, text] : texts) loaded.push_back(outlined_document(u, path, std::move(text)));
+    if (auto own = uri_to_path(uri)) {
         fs::path dir = fs::path(*own).parent_path();
-        disk = sibling_documents(dir.empty() ? fs::path(".") : dir, open);
-        for (const auto& d : disk) out.push_back({d.uri, &d.doc});
+        for (auto& d : sibling_documents(dir.empty() ? fs::path(".") : dir, open)) loaded.push_back(std::move(d));
     }
+    std::vector<OtherDocument> out;
+    for (const auto& d : loaded) out.push_back({d.uri, &d.doc});
     return out;
 }
 
 json Server::workspace_symbol(const json& params) {
     std::string query;
     if (params.is_object() && params.contains("query") && params["query"].is_string()) query = params["query"];
-    std::vector<SymbolSource> sources;
+    // The open documents: their text in the editor.
+    std::vector<std::tuple<std::string, std::string, std::string>> texts;  // uri, path, text
     std::vector<std::string> open;
     std::set<std::string> dirs;
-    for (const auto& [uri, m] : models_) {
-        if (m.version < 0) continue;
-        // Not owned: the models outlive this request.
-        sources.push_back({uri, std::shared_ptr<const DocumentModel>(std::shared_ptr<void>(), &m.doc)});
-        if (auto path = uri_to_path(uri)) {
-            open.push_back(fs::path(*path).lexically_normal().string());
-            dirs.insert(fs::path(*path).parent_path().string());
+    {
+        std::lock_guard lock(m_);
+        for (const auto& [uri, d] : docs_) {
+            texts.emplace_back(uri, d.path.value_or(uri), d.text);
+            if (d.path) {
+                open.push_back(fs::path(*d.path).lexically_normal().string());
+                dirs.insert(fs::path(*d.path).parent_path().string());
+            }
         }
+    }
+    std::vector<SymbolSource> sources;
+    for (auto& [uri, path, text] : texts) {
+        auto doc = std::make_shared<DiskDocument>(outlined_document(uri, path, std::move(text)));
+        sources.push_back({uri, std::shared_ptr<const DocumentModel>(doc, &doc->doc)});
     }
     // The workspace folder (and below); without one, the folders of the open documents.
-    std::vector<SymbolSource> disk;
     if (root_) {
-        disk = folder_documents(fs::path(*root_), open);
+        for (auto& d : folder_documents(fs::path(*root_), open)) sources.push_back(std::move(d));
     } else {
-        for (const auto& d : dirs) {
-            for (auto& s : folder_documents(fs::path(d), open, 2000))
-                if (fs::path(s.doc->path).parent_path() == fs::path(d)) disk.push_back(std::move(s));
-        }
+        for (const auto& dir : dirs)
+            for (auto& d : folder_documents(fs::path(dir), open))
+                if (fs::path(d.doc->path).parent_path() == fs::path(dir)) sources.push_back(std::move(d));
     }
-    for (auto& d : disk) sources.push_back(std::move(d));
     return workspace_symbols(sources, query, encoding_);
 }
 
@@ -696,7 +717,7 @@ json Server::answer(const Pending& p, Model& m, bool current) {
     if (p.method == "textDocument/definition" || p.method == "textDocument/references") {
         std::vector<DiskDocument> disk;
         std::vector<OtherDocument> others;
-        if (name_at(m.doc, offset).kind == NameAt::Program) others = other_documents(m, disk);
+        if (name_at(m.doc, offset).kind == NameAt::Program) others = other_documents(uri_of(p.params), disk);
         if (p.method == "textDocument/definition") return definition(m.doc, uri_of(p.params), offset, others, encoding_);
         bool declaration = true;
         if (p.params.contains("context") && p.params["context"].is_object())
