@@ -10,6 +10,7 @@
 #include "api/config.h"
 #include "osplint/osplint.h"
 #include "lsp/features.h"
+#include "lsp/hints.h"
 #include "lsp/navigation.h"
 #include "lsp/structure.h"
 #include "support/errors.h"
@@ -53,6 +54,7 @@ constexpr DocumentRequest kDocumentRequests[] = {
     {"textDocument/documentHighlight", false}, {"textDocument/prepareRename", true},
     {"textDocument/rename", true},         {"textDocument/foldingRange", false},
     {"textDocument/semanticTokens/full", true}, {"textDocument/semanticTokens/range", true},
+    {"textDocument/inlayHint", false},     {"textDocument/signatureHelp", true},
 };
 
 const DocumentRequest* document_request(std::string_view method) {
@@ -315,6 +317,8 @@ json Server::initialize(const json& params) {
         {"foldingRangeProvider", true},
         {"semanticTokensProvider", {{"legend", semantic_tokens_legend()}, {"full", true}, {"range", true}}},
         {"workspaceSymbolProvider", true},
+        {"inlayHintProvider", true},
+        {"signatureHelpProvider", {{"triggerCharacters", json::array({" ", "="})}}},
     };
     return json{{"capabilities", capabilities},
                 {"serverInfo", {{"name", "osplint"}, {"version", std::string(version())}}}};
@@ -705,6 +709,10 @@ json Server::answer(const Pending& p, Model& m, bool current) {
     if (p.method == "textDocument/documentSymbol") return document_symbols(m.doc, encoding_);
     if (p.method == "textDocument/foldingRange") return folding_ranges(m.doc);
     if (p.method == "textDocument/semanticTokens/full") return semantic_tokens(m.doc, encoding_);
+    if (p.method == "textDocument/inlayHint") {
+        const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);
+        return inlay_hints(m.doc, *m.config, &m.known, source.line_of(r.begin), source.line_of(r.end), encoding_);
+    }
     if (p.method == "textDocument/semanticTokens/range") {
         const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);
         return semantic_tokens(m.doc, encoding_, source.line_of(r.begin), source.line_of(r.end));
@@ -724,6 +732,7 @@ json Server::answer(const Pending& p, Model& m, bool current) {
             declaration = p.params["context"].value("includeDeclaration", true);
         return references(m.doc, uri_of(p.params), offset, declaration, others, encoding_);
     }
+    if (p.method == "textDocument/signatureHelp") return signature_help(m.doc, *m.config, offset);
     if (p.method == "textDocument/documentHighlight") return document_highlight(m.doc, offset, encoding_);
     if (p.method == "textDocument/prepareRename") return prepare_rename(m.doc, offset, encoding_);
     if (p.method == "textDocument/rename") {
