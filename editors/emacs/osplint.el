@@ -11,8 +11,11 @@
   (setq-local comment-end ")")
   (setq-local comment-start-skip "(\\s-*"))
 
-(add-to-list 'auto-mode-alist
-             '("\\.\\(MIN\\|SSB\\|SUB\\|SDF\\|LIB\\|MSB\\|min\\|ssb\\|sub\\|sdf\\|lib\\|msb\\)\\'" . osp-mode))
+(defconst osplint-file-regexp
+  "\\.\\([Mm][Ii][Nn]\\|[Ss][Ss][Bb]\\|[Ss][Uu][Bb]\\|[Ss][Dd][Ff]\\|[Ll][Ii][Bb]\\|[Mm][Ss][Bb]\\|[Nn][Cc]\\)\\'"
+  "OSP program files: .MIN .SSB .SUB .SDF .LIB .MSB .NC, in any case.")
+
+(add-to-list 'auto-mode-alist (cons osplint-file-regexp 'osp-mode))
 
 (with-eval-after-load 'eglot
   (add-to-list 'eglot-server-programs '(osp-mode . ("osplint" "lsp"))))

@@ -5,7 +5,7 @@
 --     require('osplint').setup()                      -- `osplint` on $PATH
 --     require('osplint').setup({ cmd = { '/path/to/osplint', 'lsp' } })
 --
--- It marks Okuma OSP program files (.MIN .SSB .SUB .SDF .LIB .MSB .NC) as
+-- It marks Okuma OSP program files (.MIN .SSB .SUB .SDF .LIB .MSB .NC, any case) as
 -- filetype `osp` and starts one `osplint lsp` per project root (the directory
 -- of the nearest osplint.toml, else the file's directory). Diagnostics, hover
 -- (K), completion (<C-x><C-o>) and code actions then work with Neovim's
@@ -13,8 +13,9 @@
 -- Neovim.
 local M = {}
 
-M.patterns = { '*.MIN', '*.min', '*.SSB', '*.ssb', '*.SUB', '*.sub', '*.SDF', '*.sdf', '*.LIB', '*.lib',
-  '*.MSB', '*.msb', '*.NC', '*.nc' }
+-- Any case: `*.[Mm][Ii][Nn]` matches PART.MIN, part.min and Part.Min.
+M.patterns = { '*.[Mm][Ii][Nn]', '*.[Ss][Ss][Bb]', '*.[Ss][Uu][Bb]', '*.[Ss][Dd][Ff]', '*.[Ll][Ii][Bb]',
+  '*.[Mm][Ss][Bb]', '*.[Nn][Cc]' }
 
 local clients = {} -- root directory -> client id (Neovim 0.7 path)
 
