@@ -22,12 +22,13 @@ using Clock = std::chrono::steady_clock;
 const std::string kHuge = "untitled:HUGE.MIN";
 const std::string kSmall = "untitled:SMALL.MIN";
 
-// About 48 MB of plain moves: its analysis takes far longer than a round trip.
+// About 16 MB of macro calls: its analysis takes seconds (far longer than a
+// round trip), its transfer well under one.
 std::string huge_text() {
-    std::string text = "O1\n";
-    const std::string lines = "G1 X10. Y20. Z-1. F300\nX11. Y21.\nG0 Z5.\n";
-    text.reserve((48u << 20) + lines.size());
-    while (text.size() < (48u << 20)) text += lines;
+    std::string text = "O1\nVC1=0\nG0 G90 X0 Y0\n";
+    const std::string lines = "CALL OZAGR PX=VC1 PY=0 PR=5. PZ=-20. PI=12. (PASS)\nVC1=VC1+1\n";
+    text.reserve((16u << 20) + lines.size());
+    while (text.size() < (16u << 20)) text += lines;
     return text + "M30\n";
 }
 
