@@ -528,8 +528,10 @@ void Server::update_model(Model& m, Job& job) {
         cv_.notify_all();
     }
     if (m.generation != job.generation) {
-        m = Model{};
-        m.generation = job.generation;
+        Model fresh;
+        fresh.generation = job.generation;
+        std::lock_guard lock(m_);  // its program names are read by the other workers
+        m = std::move(fresh);
     }
     const auto t0 = Clock::now();
     if (options_.log_timing) log(job.uri + " v" + std::to_string(job.version) + ": analysis started");
