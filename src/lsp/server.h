@@ -44,7 +44,8 @@ struct ServerOptions {
     // Quiet time after an edit before the analysis starts (an analysis of an
     // outdated text stops as soon as the next edit arrives, so it can be short).
     std::chrono::milliseconds debounce{2};
-    // Diagnostics about the server itself (stderr for `osplint lsp`).
+    // Diagnostics about the server itself (stderr for `osplint lsp`); called
+    // from the message loop and from every worker.
     std::function<void(const std::string&)> log;
     // Also log when each analysis starts and the time it took.
     bool log_timing = false;
