@@ -26,6 +26,8 @@ using Clock = std::chrono::steady_clock;
 
 // An analysis stopped because its text is outdated.
 struct Outdated {};
+// A request's walk stopped because the text changed.
+struct ContentModified {};
 
 const json& field(const json& obj, const char* key) {
     if (!obj.is_object()) throw std::invalid_argument("params must be an object");
@@ -639,7 +641,10 @@ void Server::run_job(Job& job, Model& m) {
     for (const auto& p : job.pending) {
         json result;
         try {
-            result = answer(p, m, current);
+            result = answer(p, m, current, job.outdated.get());
+        } catch (const ContentModified&) {
+            send(make_error(p.id, error::kContentModified, "the document changed while the request was answered"));
+            continue;
         } catch (const std::invalid_argument& e) {
             send(make_error(p.id, error::kInvalidParams, e.what()));
             continue;
@@ -704,7 +709,7 @@ json Server::workspace_symbol(const json& params) {
     return workspace_symbols(sources, query, encoding_);
 }
 
-json Server::answer(const Pending& p, Model& m, bool current) {
+json Server::answer(const Pending& p, Model& m, bool current, const std::atomic<bool>* outdated) {
     const bool is_hover = p.method == "textDocument/hover";
     if (!current) return empty_result(p.method);
     const SourceText& source = m.doc.source();
@@ -713,7 +718,10 @@ json Server::answer(const Pending& p, Model& m, bool current) {
     if (p.method == "textDocument/semanticTokens/full") return semantic_tokens(m.doc, encoding_);
     if (p.method == "textDocument/inlayHint") {
         const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);
-        return inlay_hints(m.doc, *m.config, &m.known, source.line_of(r.begin), source.line_of(r.end), encoding_);
+        json hints =
+            inlay_hints(m.doc, *m.config, &m.known, source.line_of(r.begin), source.line_of(r.end), encoding_, outdated);
+        if (outdated && outdated->load()) throw ContentModified{};  // the walk stopped: an edit came
+        return hints;
     }
     if (p.method == "textDocument/semanticTokens/range") {
         const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);

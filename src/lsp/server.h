@@ -159,7 +159,8 @@ private:
     void run_job(Job& job, Model& m);
     void update_model(Model& m, Job& job);
     const BlockRecord* block_of(Model& m, uint32_t line);
-    json answer(const Pending& p, Model& m, bool current);
+    // `outdated` is set when the text changes: a walk for the answer stops.
+    json answer(const Pending& p, Model& m, bool current, const std::atomic<bool>* outdated);
     json workspace_symbol(const json& params);
     // The other open documents (their text now, outlined) and the subprogram
     // files beside `uri` (kept in `loaded`).

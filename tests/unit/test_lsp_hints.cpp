@@ -3,9 +3,11 @@
 // scripted client, in UTF-8 and UTF-16.
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <string>
 #include <vector>
 
+#include "lsp/hints.h"
 #include "lsp_session.h"
 
 using namespace osplint;
@@ -109,4 +111,22 @@ TEST_CASE("lsp: signature help: the macro's arguments, the one under the cursor"
     CHECK(help(1, 7).is_null());
     CHECK(help(1, col(line, ")", false)).is_null());
     CHECK(help(2, 14).is_null());
+}
+
+TEST_CASE("lsp: inlay hints: the walk stops when the text is outdated") {
+    // 3,000 calls, one hint each; with the flag set the walk stops within its
+    // first 1,024 blocks (the engine looks at the flag every 1,024 blocks).
+    std::string text = "O1\nG17 G90 G0 X0 Y0\n";
+    for (int i = 0; i < 3000; ++i) text += "CALL OZAGR PX=0 PY=0 PR=5. PZ=-20. PI=12.\n";
+    text += "M30\n";
+    DocumentModel doc;
+    doc.path = "HINTS.MIN";
+    doc.set_text(text);
+    const Config config;
+    std::atomic<bool> outdated{false};
+    const json all = inlay_hints(doc, config, nullptr, 1, 4000, Encoding::Utf8, &outdated);
+    CHECK(all.size() == 3000);
+    outdated = true;
+    const json stopped = inlay_hints(doc, config, nullptr, 1, 4000, Encoding::Utf8, &outdated);
+    CHECK(stopped.size() <= 1024);
 }
