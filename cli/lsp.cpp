@@ -17,8 +17,9 @@ int run_lsp() {
     lsp::FdInput in(STDIN_FILENO);
     lsp::FdOutput out(STDOUT_FILENO);
     lsp::ServerOptions options;
-    options.log = [](const std::string& message) { std::cerr << "osplint lsp: " << message << std::endl; };
-    // OSPLINT_LSP_TIMING=1: log how long each analysis took.
+    // One write per message: the workers log at the same time.
+    options.log = [](const std::string& message) { std::cerr << ("osplint lsp: " + message + "\n") << std::flush; };
+    // OSPLINT_LSP_TIMING=1: log when each analysis starts and how long it took.
     if (const char* t = std::getenv("OSPLINT_LSP_TIMING"); t && *t && std::string_view(t) != "0")
         options.log_timing = true;
     lsp::Server server(in, out, options);

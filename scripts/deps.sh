@@ -4,6 +4,7 @@ set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config libtree-sitter-dev libfmt-dev nlohmann-json3-dev
           libcli11-dev libtomlplusplus-dev doctest-dev
           neovim  # the language server's end-to-end test (tests/scripts/lsp_neovim.sh)
+          emacs-nox elpa-eglot  # ... with Emacs and Eglot (tests/scripts/lsp_emacs.sh)
           clang libclang-rt-14-dev  # the differential fuzzer (tests/scripts/fuzz_short.sh)
           time  # peak RSS in bench/run.sh
           "$@")

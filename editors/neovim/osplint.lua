@@ -5,16 +5,18 @@
 --     require('osplint').setup()                      -- `osplint` on $PATH
 --     require('osplint').setup({ cmd = { '/path/to/osplint', 'lsp' } })
 --
--- It marks Okuma OSP program files (.MIN .SSB .SUB .SDF .LIB .MSB .NC) as
+-- It marks Okuma OSP program files (.MIN .SSB .SUB .SDF .LIB .MSB .NC, any case) as
 -- filetype `osp` and starts one `osplint lsp` per project root (the directory
 -- of the nearest osplint.toml, else the file's directory). Diagnostics, hover
--- (K), completion (<C-x><C-o>) and code actions then work with Neovim's
+-- (K), go to definition (gd), references (gr), rename (<leader>rn), code
+-- actions (<leader>ca) and completion (<C-x><C-o>) then work with Neovim's
 -- built-in client. tests/scripts/lsp_neovim.sh runs this file against a real
 -- Neovim.
 local M = {}
 
-M.patterns = { '*.MIN', '*.min', '*.SSB', '*.ssb', '*.SUB', '*.sub', '*.SDF', '*.sdf', '*.LIB', '*.lib',
-  '*.MSB', '*.msb', '*.NC', '*.nc' }
+-- Any case: `*.[Mm][Ii][Nn]` matches PART.MIN, part.min and Part.Min.
+M.patterns = { '*.[Mm][Ii][Nn]', '*.[Ss][Ss][Bb]', '*.[Ss][Uu][Bb]', '*.[Ss][Dd][Ff]', '*.[Ll][Ii][Bb]',
+  '*.[Mm][Ss][Bb]', '*.[Nn][Cc]' }
 
 local clients = {} -- root directory -> client id (Neovim 0.7 path)
 
@@ -41,6 +43,9 @@ function M.attach(bufnr, opts)
     handlers = opts.handlers,
     on_attach = function(client, buf)
       vim.api.nvim_buf_set_option(buf, 'omnifunc', 'v:lua.vim.lsp.omnifunc')
+      if opts.mappings ~= false then
+        M.map(buf)
+      end
       if opts.on_attach then
         opts.on_attach(client, buf)
       end
@@ -56,6 +61,20 @@ function M.attach(bufnr, opts)
   end
   vim.lsp.buf_attach_client(bufnr, id)
   return id
+end
+
+-- Buffer-local mappings (Neovim 0.7 sets none of them by itself): K hover,
+-- gd go to definition, gr references, <leader>rn rename, <leader>ca code
+-- actions. `mappings = false` in the options leaves the keys alone.
+function M.map(buf)
+  local function map(lhs, fn, desc)
+    vim.keymap.set('n', lhs, fn, { buffer = buf, silent = true, desc = desc })
+  end
+  map('K', vim.lsp.buf.hover, 'osplint: hover')
+  map('gd', vim.lsp.buf.definition, 'osplint: go to definition')
+  map('gr', vim.lsp.buf.references, 'osplint: references')
+  map('<leader>rn', vim.lsp.buf.rename, 'osplint: rename')
+  map('<leader>ca', vim.lsp.buf.code_action, 'osplint: code actions')
 end
 
 -- Tree-sitter highlighting with osplint's own grammar (optional): build the

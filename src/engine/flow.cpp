@@ -46,6 +46,14 @@ const LoopPair* ProgramFlow::loop_at_end(uint32_t offset) const {
     return it == by_end_.end() ? nullptr : &it->second;
 }
 
+std::vector<LoopPair> ProgramFlow::loops() const {
+    std::vector<LoopPair> out;
+    out.reserve(by_head_.size());
+    for (const auto& [head, pair] : by_head_) out.push_back(pair);
+    std::sort(out.begin(), out.end(), [](const LoopPair& a, const LoopPair& b) { return a.head < b.head; });
+    return out;
+}
+
 std::optional<uint32_t> ProgramFlow::last_jump_to(std::string_view name) const {
     auto it = last_jump_.find(name);
     if (it == last_jump_.end()) return std::nullopt;

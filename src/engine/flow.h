@@ -48,6 +48,8 @@ public:
     // The loop whose head / END is the block at `offset`.
     const LoopPair* loop_at_head(uint32_t offset) const;
     const LoopPair* loop_at_end(uint32_t offset) const;
+    // Every matched loop, by the offset of its head.
+    std::vector<LoopPair> loops() const;
     // The offset of the last block that jumps to `name`.
     std::optional<uint32_t> last_jump_to(std::string_view name) const;
     // Whether a jump or an N word of the program names `name`.

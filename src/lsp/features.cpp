@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "catalog/catalog.h"
+#include "lsp/navigation.h"
 #include "rules/registry.h"
 #include "support/embedded.h"
 #include "support/text.h"
@@ -695,30 +696,18 @@ json document_symbols(const DocumentModel& doc, Encoding enc) {
     json out = json::array();
     const SourceText& src = doc.source();
     const auto& programs = doc.outline.programs;
-    FastLineParser parser;
-    Block b;
     for (size_t pi = 0; pi < programs.size(); ++pi) {
         const ProgramOutline& p = programs[pi];
-        const uint32_t first_line = p.line;
-        const uint32_t last_line = pi + 1 < programs.size() ? programs[pi + 1].line - 1 : doc.outline.lines;
+        const auto [first_line, last_line] = program_lines(doc, pi);
         if (first_line > last_line) continue;
         json children = json::array();
-        size_t labels = 0;
-        for (uint32_t line = first_line; line <= last_line; ++line) {
-            const std::string_view text = src.line_text(line);
-            // A sequence name starts its block (after blanks or a block delete).
-            const size_t k = text.find_first_not_of(" \t/");
-            if (k == std::string_view::npos || (text[k] != 'N' && text[k] != 'n')) continue;
-            const uint32_t start = src.line_start(line);
-            parser.parse(LineRef{text, {}, line, start}, b);
-            if (!b.sequence) continue;
-            if (++labels > kMaxSequenceSymbols) break;
-            std::string detail(text.substr(b.sequence->range.end - start));
+        for (const auto& d : sequence_definitions(doc, pi, kMaxSequenceSymbols)) {
+            std::string detail(std::string_view(src.text()).substr(d.range.end, d.block.end - d.range.end));
             detail = std::string(trim_blanks(detail)).substr(0, 60);
-            json sym = {{"name", b.sequence->name},
+            json sym = {{"name", d.name},
                         {"kind", 20},  // Key
-                        {"range", to_lsp_range(src, b.range, enc)},
-                        {"selectionRange", to_lsp_range(src, b.sequence->range, enc)}};
+                        {"range", to_lsp_range(src, d.block, enc)},
+                        {"selectionRange", to_lsp_range(src, d.range, enc)}};
             if (!detail.empty()) sym["detail"] = detail;
             children.push_back(std::move(sym));
         }

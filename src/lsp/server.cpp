@@ -3,11 +3,16 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <tuple>
+#include <set>
 
 #include "api/check.h"
 #include "api/config.h"
 #include "osplint/osplint.h"
 #include "lsp/features.h"
+#include "lsp/hints.h"
+#include "lsp/navigation.h"
+#include "lsp/structure.h"
 #include "support/errors.h"
 #include "support/text.h"
 
@@ -21,6 +26,8 @@ using Clock = std::chrono::steady_clock;
 
 // An analysis stopped because its text is outdated.
 struct Outdated {};
+// A request's walk stopped because the text changed.
+struct ContentModified {};
 
 const json& field(const json& obj, const char* key) {
     if (!obj.is_object()) throw std::invalid_argument("params must be an object");
@@ -34,6 +41,33 @@ std::string uri_of(const json& params) {
     const json& uri = field(td, "uri");
     if (!uri.is_string()) throw std::invalid_argument("textDocument.uri must be a string");
     return uri.get<std::string>();
+}
+
+// The requests answered from a document's model, and what they answer for a
+// document that is not open (or closed while the request waited).
+struct DocumentRequest {
+    std::string_view method;
+    bool null_when_empty;  // null, else an empty array
+};
+constexpr DocumentRequest kDocumentRequests[] = {
+    {"textDocument/hover", true},          {"textDocument/completion", false},
+    {"textDocument/codeAction", false},    {"textDocument/documentSymbol", false},
+    {"textDocument/definition", true},     {"textDocument/references", false},
+    {"textDocument/documentHighlight", false}, {"textDocument/prepareRename", true},
+    {"textDocument/rename", true},         {"textDocument/foldingRange", false},
+    {"textDocument/semanticTokens/full", true}, {"textDocument/semanticTokens/range", true},
+    {"textDocument/inlayHint", false},     {"textDocument/signatureHelp", true},
+};
+
+const DocumentRequest* document_request(std::string_view method) {
+    for (const auto& r : kDocumentRequests)
+        if (r.method == method) return &r;
+    return nullptr;
+}
+
+json empty_result(std::string_view method) {
+    const DocumentRequest* r = document_request(method);
+    return r && r->null_when_empty ? json(nullptr) : json::array();
 }
 
 bool ends_with_ci(std::string_view s, std::string_view suffix) {
@@ -95,7 +129,9 @@ ConfigCache::Lookup ConfigCache::get(const std::optional<fs::path>& dir) {
 
 Server::Server(InputStream& in, OutputStream& out, ServerOptions options)
     : reader_(in), writer_(out), options_(std::move(options)) {
-    worker_ = std::thread([this] { worker_loop(); });
+    unsigned n = options_.workers;
+    if (n == 0) n = std::clamp(std::thread::hardware_concurrency(), 2u, 4u);
+    for (unsigned i = 0; i < n; ++i) workers_.emplace_back([this] { worker_loop(); });
 }
 
 Server::~Server() {
@@ -105,7 +141,8 @@ Server::~Server() {
         for (auto& [uri, d] : docs_) d.outdate();  // a running analysis stops
     }
     cv_.notify_all();
-    if (worker_.joinable()) worker_.join();
+    for (auto& w : workers_)
+        if (w.joinable()) w.join();
 }
 
 void Server::send(const json& message) { writer_.send(message); }
@@ -179,8 +216,13 @@ void Server::on_request(const json& id, const std::string& method, const json& p
         send(make_response(id, nullptr));
         return;
     }
-    if (method == "textDocument/hover" || method == "textDocument/completion" || method == "textDocument/codeAction" ||
-        method == "textDocument/documentSymbol") {
+    if (method == "workspace/symbol") {
+        std::lock_guard lock(m_);
+        workspace_pending_.push_back({id, method, params});
+        cv_.notify_all();
+        return;
+    }
+    if (document_request(method)) {
         const std::string uri = uri_of(params);
         {
             std::lock_guard lock(m_);
@@ -192,7 +234,7 @@ void Server::on_request(const json& id, const std::string& method, const json& p
             }
         }
         // Not an open document.
-        send(make_response(id, method == "textDocument/hover" ? json(nullptr) : json::array()));
+        send(make_response(id, empty_result(method)));
         return;
     }
     send(make_error(id, error::kMethodNotFound, "method not supported: " + method));
@@ -270,6 +312,15 @@ json Server::initialize(const json& params) {
         {"completionProvider", {{"triggerCharacters", json::array({" "})}, {"resolveProvider", false}}},
         {"codeActionProvider", {{"codeActionKinds", json::array({"quickfix"})}}},
         {"documentSymbolProvider", true},
+        {"definitionProvider", true},
+        {"referencesProvider", true},
+        {"documentHighlightProvider", true},
+        {"renameProvider", {{"prepareProvider", true}}},
+        {"foldingRangeProvider", true},
+        {"semanticTokensProvider", {{"legend", semantic_tokens_legend()}, {"full", true}, {"range", true}}},
+        {"workspaceSymbolProvider", true},
+        {"inlayHintProvider", true},
+        {"signatureHelpProvider", {{"triggerCharacters", json::array({" ", "="})}}},
     };
     return json{{"capabilities", capabilities},
                 {"serverInfo", {{"name", "osplint"}, {"version", std::string(version())}}}};
@@ -290,7 +341,7 @@ void Server::did_open(const json& params) {
     d.generation = next_generation_++;
     if (auto it = docs_.find(uri); it != docs_.end()) {
         for (const auto& p : it->second.pending)
-            send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+            send(make_response(p.id, empty_result(p.method)));
         it->second.outdate();
     }
     docs_[uri] = std::move(d);
@@ -330,7 +381,7 @@ void Server::did_close(const json& params) {
     auto it = docs_.find(uri);
     if (it == docs_.end()) return;
     for (const auto& p : it->second.pending)
-        send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+        send(make_response(p.id, empty_result(p.method)));
     it->second.outdate();
     docs_.erase(it);
     send(make_notification("textDocument/publishDiagnostics", {{"uri", uri}, {"diagnostics", json::array()}}));
@@ -365,19 +416,36 @@ void Server::worker_loop() {
     std::unique_lock lock(m_);
     for (;;) {
         if (stop_) return;
-        // Forget the models of closed documents.
+        // Forget the models of closed documents (not one a worker holds).
         for (auto it = models_.begin(); it != models_.end();) {
             auto d = docs_.find(it->first);
-            if (d == docs_.end() || d->second.generation != it->second.generation)
+            if (!busy_.count(it->first) && (d == docs_.end() || d->second.generation != it->second->generation))
                 it = models_.erase(it);
             else
                 ++it;
         }
+        if (!workspace_pending_.empty()) {
+            std::vector<Pending> work = std::move(workspace_pending_);
+            workspace_pending_.clear();
+            lock.unlock();
+            for (const auto& p : work) {
+                try {
+                    send(make_response(p.id, workspace_symbol(p.params)));
+                } catch (const std::exception& e) {
+                    send(make_error(p.id, error::kInternalError, e.what()));
+                }
+            }
+            lock.lock();
+            continue;
+        }
+        // A document no other worker holds: one with a request waiting first
+        // (no debounce), else one whose quiet time after an edit is over.
         const auto now = Clock::now();
         Document* pick = nullptr;
         auto next_due = Clock::time_point::max();
         for (auto& [uri, d] : docs_) {
-            if (!d.pending.empty()) {  // a request waits: no debounce
+            if (busy_.count(uri)) continue;
+            if (!d.pending.empty()) {
                 pick = &d;
                 break;
             }
@@ -398,8 +466,10 @@ void Server::worker_loop() {
         job.path = pick->path;
         job.generation = pick->generation;
         job.version = pick->version;
-        auto model = models_.find(job.uri);
-        if (pick->dirty || model == models_.end() || model->second.generation != job.generation) {
+        std::unique_ptr<Model>& slot = models_[job.uri];
+        if (!slot) slot = std::make_unique<Model>();
+        Model& model = *slot;  // stays in place while busy_ holds its URI
+        if (pick->dirty || model.generation != job.generation) {
             job.has_text = true;
             job.text = pick->text;
             pick->dirty = false;
@@ -407,14 +477,17 @@ void Server::worker_loop() {
         job.pending = std::move(pick->pending);
         pick->pending.clear();
         job.outdated = pick->outdated;
+        busy_.insert(job.uri);
         lock.unlock();
         try {
-            run_job(job);
+            run_job(job, model);
         } catch (const std::exception& e) {
             log(std::string("analysis failed: ") + e.what());
             for (const auto& p : job.pending) send(make_error(p.id, error::kInternalError, e.what()));
         }
         lock.lock();
+        busy_.erase(job.uri);
+        cv_.notify_all();  // its requests that came meanwhile, and the other workers
     }
 }
 
@@ -433,10 +506,10 @@ void Server::collect_known(Model& m, const std::optional<std::string>& path) {
     // Subprogram files beside the document (.SSB/.SUB/.LIB/.MSB).
     if (path) directories_.add_names(fs::path(*path).parent_path(), m.known);
     // Programs of the other open documents, as last analysed.
+    std::lock_guard lock(m_);
     for (const auto& [uri, other] : models_) {
-        if (&other == &m) continue;
-        for (const auto& p : other.doc.outline.programs)
-            if (!p.name.empty()) m.known.insert(p.name);
+        if (other.get() == &m) continue;
+        for (const auto& name : other->program_names) m.known.insert(name);
     }
 }
 
@@ -457,10 +530,13 @@ void Server::update_model(Model& m, Job& job) {
         cv_.notify_all();
     }
     if (m.generation != job.generation) {
-        m = Model{};
-        m.generation = job.generation;
+        Model fresh;
+        fresh.generation = job.generation;
+        std::lock_guard lock(m_);  // its program names are read by the other workers
+        m = std::move(fresh);
     }
     const auto t0 = Clock::now();
+    if (options_.log_timing) log(job.uri + " v" + std::to_string(job.version) + ": analysis started");
     m.doc.path = job.path ? *job.path : job.uri;
     // An edit: the analysis starts at the last checkpoint before it, when the
     // configuration and the known programs are those of the last analysis.
@@ -502,6 +578,13 @@ void Server::update_model(Model& m, Job& job) {
     for (auto& d : produced.out) m.produced.push_back(std::move(d));
     m.diagnostics = m.produced;
     std::stable_sort(m.diagnostics.begin(), m.diagnostics.end(), diagnostic_less);
+    {
+        std::vector<std::string> names;
+        for (const auto& p : m.doc.outline.programs)
+            if (!p.name.empty()) names.push_back(p.name);
+        std::lock_guard lock(m_);
+        m.program_names = std::move(names);
+    }
     if (options_.log_timing) {
         const auto t1 = Clock::now();
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
@@ -516,8 +599,7 @@ const BlockRecord* Server::block_of(Model& m, uint32_t line) {
     return m.hovered ? &*m.hovered : nullptr;
 }
 
-void Server::run_job(Job& job) {
-    Model& m = models_[job.uri];
+void Server::run_job(Job& job, Model& m) {
     if (job.has_text) {
         try {
             update_model(m, job);
@@ -534,7 +616,7 @@ void Server::run_job(Job& job) {
                 cv_.notify_all();
             } else {
                 for (const auto& p : job.pending)
-                    send(make_response(p.id, p.method == "textDocument/hover" ? json(nullptr) : json::array()));
+                    send(make_response(p.id, empty_result(p.method)));
             }
             return;
         } catch (const std::exception& e) {
@@ -559,7 +641,10 @@ void Server::run_job(Job& job) {
     for (const auto& p : job.pending) {
         json result;
         try {
-            result = answer(p, m, current);
+            result = answer(p, m, current, job.outdated.get());
+        } catch (const ContentModified&) {
+            send(make_error(p.id, error::kContentModified, "the document changed while the request was answered"));
+            continue;
         } catch (const std::invalid_argument& e) {
             send(make_error(p.id, error::kInvalidParams, e.what()));
             continue;
@@ -571,16 +656,100 @@ void Server::run_job(Job& job) {
     }
 }
 
-json Server::answer(const Pending& p, Model& m, bool current) {
+std::vector<OtherDocument> Server::other_documents(const std::string& uri, std::vector<DiskDocument>& loaded) {
+    std::set<std::string> open;
+    std::vector<std::tuple<std::string, std::string, std::string>> texts;  // uri, path, text
+    {
+        std::lock_guard lock(m_);
+        for (const auto& [u, d] : docs_) {
+            if (d.path) open.insert(fs::path(*d.path).lexically_normal().string());
+            if (u != uri) texts.emplace_back(u, d.path.value_or(u), d.text);
+        }
+    }
+    for (auto& [u, path, text] : texts) loaded.push_back(outlined_document(u, path, std::move(text)));
+    if (auto own = uri_to_path(uri)) {
+        fs::path dir = fs::path(*own).parent_path();
+        for (auto& d : sibling_documents(dir.empty() ? fs::path(".") : dir, open)) loaded.push_back(std::move(d));
+    }
+    std::vector<OtherDocument> out;
+    for (const auto& d : loaded) out.push_back({d.uri, &d.doc});
+    return out;
+}
+
+json Server::workspace_symbol(const json& params) {
+    std::string query;
+    if (params.is_object() && params.contains("query") && params["query"].is_string()) query = params["query"];
+    // The open documents: their text in the editor.
+    std::vector<std::tuple<std::string, std::string, std::string>> texts;  // uri, path, text
+    std::vector<std::string> open;
+    std::set<std::string> dirs;
+    {
+        std::lock_guard lock(m_);
+        for (const auto& [uri, d] : docs_) {
+            texts.emplace_back(uri, d.path.value_or(uri), d.text);
+            if (d.path) {
+                open.push_back(fs::path(*d.path).lexically_normal().string());
+                dirs.insert(fs::path(*d.path).parent_path().string());
+            }
+        }
+    }
+    std::vector<SymbolSource> sources;
+    for (auto& [uri, path, text] : texts) {
+        auto doc = std::make_shared<DiskDocument>(outlined_document(uri, path, std::move(text)));
+        sources.push_back({uri, std::shared_ptr<const DocumentModel>(doc, &doc->doc)});
+    }
+    // The workspace folder (and below); without one, the folders of the open documents.
+    if (root_) {
+        for (auto& d : folder_documents(fs::path(*root_), open)) sources.push_back(std::move(d));
+    } else {
+        for (const auto& dir : dirs)
+            for (auto& d : folder_documents(fs::path(dir), open))
+                if (fs::path(d.doc->path).parent_path() == fs::path(dir)) sources.push_back(std::move(d));
+    }
+    return workspace_symbols(sources, query, encoding_);
+}
+
+json Server::answer(const Pending& p, Model& m, bool current, const std::atomic<bool>* outdated) {
     const bool is_hover = p.method == "textDocument/hover";
-    if (!current) return is_hover ? json(nullptr) : json::array();
+    if (!current) return empty_result(p.method);
     const SourceText& source = m.doc.source();
     if (p.method == "textDocument/documentSymbol") return document_symbols(m.doc, encoding_);
+    if (p.method == "textDocument/foldingRange") return folding_ranges(m.doc);
+    if (p.method == "textDocument/semanticTokens/full") return semantic_tokens(m.doc, encoding_);
+    if (p.method == "textDocument/inlayHint") {
+        const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);
+        json hints =
+            inlay_hints(m.doc, *m.config, &m.known, source.line_of(r.begin), source.line_of(r.end), encoding_, outdated);
+        if (outdated && outdated->load()) throw ContentModified{};  // the walk stopped: an edit came
+        return hints;
+    }
+    if (p.method == "textDocument/semanticTokens/range") {
+        const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);
+        return semantic_tokens(m.doc, encoding_, source.line_of(r.begin), source.line_of(r.end));
+    }
     if (p.method == "textDocument/codeAction") {
         field(p.params, "context");
         return code_actions(uri_of(p.params), p.params, source, m.version, encoding_);
     }
     const uint32_t offset = from_lsp_position(source, field(p.params, "position"), encoding_);
+    if (p.method == "textDocument/definition" || p.method == "textDocument/references") {
+        std::vector<DiskDocument> disk;
+        std::vector<OtherDocument> others;
+        if (name_at(m.doc, offset).kind == NameAt::Program) others = other_documents(uri_of(p.params), disk);
+        if (p.method == "textDocument/definition") return definition(m.doc, uri_of(p.params), offset, others, encoding_);
+        bool declaration = true;
+        if (p.params.contains("context") && p.params["context"].is_object())
+            declaration = p.params["context"].value("includeDeclaration", true);
+        return references(m.doc, uri_of(p.params), offset, declaration, others, encoding_);
+    }
+    if (p.method == "textDocument/signatureHelp") return signature_help(m.doc, *m.config, offset);
+    if (p.method == "textDocument/documentHighlight") return document_highlight(m.doc, offset, encoding_);
+    if (p.method == "textDocument/prepareRename") return prepare_rename(m.doc, offset, encoding_);
+    if (p.method == "textDocument/rename") {
+        const json& name = field(p.params, "newName");
+        if (!name.is_string()) throw std::invalid_argument("newName must be a string");
+        return rename(m.doc, uri_of(p.params), offset, name.get<std::string>(), encoding_);
+    }
     const uint32_t line = source.line_of(offset);
     if (is_hover) return hover(m.doc, block_of(m, line), *m.config, offset, encoding_);
     // Completion: the line up to the cursor, the programs known here.

@@ -6,10 +6,14 @@
 //
 // The message loop (run()) only reads, classifies and records: document text
 // is kept here, every request about a document and every analysis is handed
-// to one worker thread. The worker owns the model of each document (its text,
-// line index and outline: lsp/document.h), runs the engine over the text,
-// publishes the diagnostics unless the document changed meanwhile, and then
-// answers the requests that waited for that version.
+// to the workers (a few threads), so `shutdown` and every message are read
+// and answered while analyses run. A worker takes a document no other worker
+// has: while it analyses it, it alone touches the model of that document
+// (its text, line index and outline: lsp/document.h); it runs the engine over
+// the text, publishes the diagnostics unless the document changed meanwhile,
+// and then answers the requests that waited for that version. So a long
+// analysis of one document holds back neither the other documents nor the
+// session.
 #pragma once
 
 #include <atomic>
@@ -22,6 +26,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,6 +34,7 @@
 #include "engine/workspace.h"
 #include "lsp/document.h"
 #include "lsp/jsonrpc.h"
+#include "lsp/navigation.h"
 #include "lsp/text.h"
 #include "semantics/config.h"
 
@@ -38,10 +44,13 @@ struct ServerOptions {
     // Quiet time after an edit before the analysis starts (an analysis of an
     // outdated text stops as soon as the next edit arrives, so it can be short).
     std::chrono::milliseconds debounce{2};
-    // Diagnostics about the server itself (stderr for `osplint lsp`).
+    // Diagnostics about the server itself (stderr for `osplint lsp`); called
+    // from the message loop and from every worker.
     std::function<void(const std::string&)> log;
-    // Also log the time each analysis took (parse, rules, publish).
+    // Also log when each analysis starts and the time it took.
     bool log_timing = false;
+    // Documents analysed at the same time (0: 2 to 4, from the hardware).
+    unsigned workers = 0;
 };
 
 // Configuration per directory: the nearest osplint.toml, reloaded when its
@@ -118,6 +127,9 @@ private:
         std::vector<Diagnostic> produced;      // the same in the order the engine made them
         std::vector<Checkpoint> checkpoints;   // where the next analysis may start after an edit
         std::optional<BlockRecord> hovered;  // the block of the last hover, for this version
+        // The programs it defines, as last analysed: read by the other
+        // documents' workers (under m_) for the names a CALL may reach.
+        std::vector<std::string> program_names;
     };
 
     struct Job {
@@ -144,10 +156,15 @@ private:
     void log(const std::string& message);
 
     void worker_loop();
-    void run_job(Job& job);
+    void run_job(Job& job, Model& m);
     void update_model(Model& m, Job& job);
     const BlockRecord* block_of(Model& m, uint32_t line);
-    json answer(const Pending& p, Model& m, bool current);
+    // `outdated` is set when the text changes: a walk for the answer stops.
+    json answer(const Pending& p, Model& m, bool current, const std::atomic<bool>* outdated);
+    json workspace_symbol(const json& params);
+    // The other open documents (their text now, outlined) and the subprogram
+    // files beside `uri` (kept in `loaded`).
+    std::vector<OtherDocument> other_documents(const std::string& uri, std::vector<DiskDocument>& loaded);
     std::optional<std::filesystem::path> config_dir(const std::optional<std::string>& path) const;
     void collect_known(Model& m, const std::optional<std::string>& path);
 
@@ -163,15 +180,18 @@ private:
     std::condition_variable cv_;
     std::map<std::string, Document> docs_;
     bool stop_ = false;
+    std::vector<Pending> workspace_pending_;  // workspace/symbol requests for the worker
     uint64_t next_generation_ = 1;
 
-    // Worker thread only.
-    std::map<std::string, Model> models_;
+    // The models, by URI (the map under m_; a model is used by the worker
+    // that holds its URI in busy_).
+    std::map<std::string, std::unique_ptr<Model>> models_;
+    std::set<std::string> busy_;
     SubprogramDirectories directories_;
     std::atomic<bool> names_stale_{false};
 
     ConfigCache configs_;
-    std::thread worker_;
+    std::vector<std::thread> workers_;
 };
 
 }  // namespace osplint::lsp

@@ -136,6 +136,30 @@ check(text:find('OZAGR', 1, true) and text:find('Back counterboring with the BIG
   'hover on OZAGR shows the macro card', text:sub(1, 200))
 check(hover and hover.contents.kind == 'markdown', 'the card is Markdown')
 
+-- 2b. The same through K, the mapping the setup makes: a floating window with the card.
+local kmap = vim.fn.maparg('K', 'n', false, true)
+check(type(kmap) == 'table' and kmap.buffer == 1, 'the setup maps K in the buffer', vim.inspect(kmap))
+vim.api.nvim_win_set_cursor(0, { call_line + 1, 7 })
+vim.cmd('normal K')
+local float_text
+vim.wait(5000, function()
+  for _, w in ipairs(vim.api.nvim_list_wins()) do
+    if vim.api.nvim_win_get_config(w).relative ~= '' then
+      local b = vim.api.nvim_win_get_buf(w)
+      float_text = table.concat(vim.api.nvim_buf_get_lines(b, 0, -1, false), '\n')
+      return true
+    end
+  end
+  return false
+end, 20)
+check(float_text and float_text:find('OZAGR', 1, true), 'K shows the macro card in a floating window',
+  float_text and float_text:sub(1, 120))
+for _, w in ipairs(vim.api.nvim_list_wins()) do
+  if vim.api.nvim_win_get_config(w).relative ~= '' then
+    vim.api.nvim_win_close(w, true)
+  end
+end
+
 -- 3. Introduce a mistake: M52 on the CALL line, after a comment with
 --    non-ASCII text (the client sends UTF-16 columns).
 local before = #published
@@ -191,7 +215,25 @@ local clean = vim.wait(10000, function()
 end, 20)
 check(clean, 'after the fix the diagnostics are empty again', codes(published[#published]))
 
--- 5. Shutdown and exit.
+-- 5. Rename a sequence name (N2 -> N20) through the client, with prepareRename.
+local n2_line
+for i, l in ipairs(vim.api.nvim_buf_get_lines(buf, 0, -1, false)) do
+  if l:find('^N2 ') then
+    n2_line = i
+  end
+end
+if check(n2_line ~= nil, 'the example has an N2 block') then
+  check(vim.fn.maparg('<leader>rn', 'n', false, true).buffer == 1, 'the setup maps <leader>rn in the buffer')
+  vim.api.nvim_win_set_cursor(0, { n2_line, 0 })
+  vim.lsp.buf.rename('N20')
+  local renamed = vim.wait(5000, function()
+    return vim.api.nvim_buf_get_lines(buf, n2_line - 1, n2_line, false)[1]:find('^N20 ') ~= nil
+  end, 20)
+  check(renamed, 'rename rewrites the sequence name',
+    vim.api.nvim_buf_get_lines(buf, n2_line - 1, n2_line, false)[1])
+end
+
+-- 6. Shutdown and exit.
 local exited
 c.config.on_exit = function(code)
   exited = code

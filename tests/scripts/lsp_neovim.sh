@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # End-to-end test of `osplint lsp` with a real editor: headless Neovim (the
 # Debian package, installed by scripts/deps.sh) opens a copy of an example,
-# receives its diagnostics, hovers over a macro name, introduces a mistake and
-# receives the new diagnostic, applies the quick fix, and shuts the server down.
+# receives its diagnostics, hovers over a macro name (by request and through
+# the K mapping of the setup), introduces a mistake and receives the new
+# diagnostic, applies the quick fix, renames a sequence name, and shuts the
+# server down.
 # The steps are in tests/lsp/e2e.lua. Usage: lsp_neovim.sh path/to/osplint
 set -uo pipefail
 osplint=$(realpath "$1")
