@@ -28,9 +28,10 @@ Shapes (--shape), from the easiest for a checker to the hardest:
   bigloop   plain with the whole main program inside one loop (N1 ... IF
             [VC1 LT 3] N1): the engine walks all of it at least twice.
 
-Only the travel shape gives findings on purpose. In loops, the repeated
-sequence names (N1, N2, ... again after each tool change) are what OSP003
-warns about; a post that numbers operations that way gets those warnings too.
+Only the travel shape gives findings on purpose. In loops, the loops jump to
+sequence names that repeat (N1, N2, ... again after each tool change): OSP006
+warns about each such jump (folded, a few hundred in all), and OSP003, off by
+default, would warn about every repeated name.
 The same arguments always give the same bytes.
 """
 import argparse
