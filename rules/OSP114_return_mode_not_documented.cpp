@@ -24,7 +24,7 @@ public:
                                  "M" + macro::format_number(code) + " on the call of " + spec->name +
                                      ": its manual documents no M53/M54 return and no PT, so where the tool ends "
                                      "after the cycle is not defined; remove it and retract explicitly");
-            d.notes.push_back({"the format of " + spec->name + " lists only PM=52 (" + spec->manual + ")",
+            d.notes.push_back({"the format of " + spec->name + " lists only PM=52 (" + macro::format_ref(*spec) + ")",
                                std::nullopt});
         }
     }
