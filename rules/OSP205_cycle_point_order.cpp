@@ -111,8 +111,8 @@ public:
         if (c->start_line != b.line && !c->start_range.empty())
             d.notes.push_back({name + " was commanded here", ctx.resolve(c->start_range)});
         if (!c->macro.empty())
-            d.notes.push_back({c->macro + " follows the fixed-cycle rules for the cycle axis, also under G91 (seed "
-                               "003 L76-84)",
+            d.notes.push_back({c->macro + " follows the fixed-cycle rules for the cycle axis, also under G91 (" +
+                                   cite({"tap-cycle/cautions-1", "tap-cycle/cautions-2"}) + ")",
                                std::nullopt});
     }
 

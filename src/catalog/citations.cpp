@@ -194,15 +194,22 @@ std::string_view manual_key(std::string_view section_key) {
     return section_key.substr(0, section_key.find('/'));
 }
 
-// The manual number and first line of "004:L182-223" (or "000:L26-30, L42").
-bool parse_source(std::string_view source, std::string_view& number, int& line) {
+// The manual number and the first range of "004:L182-223" (or
+// "000:L26-30, L42"); `last` is `line` when the first item is one line.
+bool parse_source(std::string_view source, std::string_view& number, int& line, int& last) {
     std::size_t colon = source.find(':');
     if (colon == std::string_view::npos || colon + 2 > source.size() || source[colon + 1] != 'L') return false;
     number = source.substr(0, colon);
-    const char* first = source.data() + colon + 2;
-    const char* last = source.data() + source.size();
-    auto [ptr, ec] = std::from_chars(first, last, line);
-    return ec == std::errc() && ptr != first;
+    const char* begin = source.data() + colon + 2;
+    const char* end = source.data() + source.size();
+    auto [ptr, ec] = std::from_chars(begin, end, line);
+    if (ec != std::errc() || ptr == begin) return false;
+    last = line;
+    if (ptr != end && *ptr == '-') {
+        auto [ptr2, ec2] = std::from_chars(ptr + 1, end, last);
+        if (ec2 != std::errc() || last < line) last = line;
+    }
+    return true;
 }
 
 }  // namespace
@@ -263,16 +270,21 @@ std::string cite(std::initializer_list<std::string_view> keys) {
 
 const ManualSection* section_at(std::string_view source) {
     std::string_view number;
-    int line = 0;
-    if (!parse_source(source, number, line)) return nullptr;
+    int line = 0, last = 0;
+    if (!parse_source(source, number, line, last)) return nullptr;
     const Manual* m = find_manual(number);
     if (!m) return nullptr;
-    const ManualSection* best = nullptr;
-    for (const auto& s : kSections) {
-        if (manual_key(s.key) != m->key || line < s.first_line || line > s.last_line) continue;
-        if (!best || s.last_line - s.first_line < best->last_line - best->first_line) best = &s;
+    // The innermost section holding the whole first range; else the one
+    // holding its first line.
+    for (int until : {last, line}) {
+        const ManualSection* best = nullptr;
+        for (const auto& s : kSections) {
+            if (manual_key(s.key) != m->key || line < s.first_line || until > s.last_line) continue;
+            if (!best || s.last_line - s.first_line < best->last_line - best->first_line) best = &s;
+        }
+        if (best) return best;
     }
-    return best;
+    return nullptr;
 }
 
 std::string cite_source(std::string_view source) {

@@ -58,9 +58,9 @@ std::string cite(std::initializer_list<std::string_view> keys);
 // The heading of a section, quoted, without the manual ("\"G84 tap cycle\"").
 std::string cite_heading(std::string_view key);
 
-// The innermost section holding the first line of a catalog source
-// ("004:L182-223", "000:L26-30, L42"); nullptr when the source names no
-// known manual or line.
+// The innermost section holding the first range of a catalog source
+// ("004:L182-223", "000:L26-30, L42"), or else its first line; nullptr
+// when the source names no known manual or line.
 const ManualSection* section_at(std::string_view source);
 // `cite` of `section_at(source)`; "" when it resolves to nothing.
 std::string cite_source(std::string_view source);

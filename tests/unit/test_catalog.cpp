@@ -304,9 +304,9 @@ TEST_CASE("plane mapping: cycle-axis arguments follow the plane's cycle axis") {
             std::string col = pt->columns[c];
             std::string argname = col.substr(0, col.find(' '));
             if (col.find(' ') != std::string::npos && col.substr(col.find(' ') + 1) != m.name) continue;
-            if (m.plane_table == "seed000" && (argname == "PI" || argname == "PJ" || argname == "PK") &&
+            if (m.plane_table == "back-counterboring" && (argname == "PI" || argname == "PJ" || argname == "PK") &&
                 m.name != "OG87C")
-                continue;  // 000:L76: PI/PJ/PK of the table apply to OG87C only
+                continue;  // note 2 of the table: its PI/PJ/PK apply to OG87C only
             const ArgSpec* a = m.arg(argname);
             if (!a) continue;
             for (int row = 0; row < 3; ++row) {
@@ -610,9 +610,12 @@ TEST_CASE("render_card: terminal text and Markdown") {
     CHECK(text.find("default 5") != std::string::npos);               // PL
     CHECK(text.find("(undocumented)") != std::string::npos);          // PD
     CHECK(text.find("M53 without PT raises an alarm") != std::string::npos);
-    CHECK(text.find("A-17 (open, configurable)") != std::string::npos);
+    CHECK(text.find("(open, configurable) The table prints PT") != std::string::npos);
     CHECK(text.find("[macro.OZAGR.arg.PT]") != std::string::npos);
-    CHECK(text.find("000:L552-648") != std::string::npos);
+    CHECK(text.find("Back counterboring macros manual (OG87EX, 2001-07-30), \"OZAGR (BIG back-counterbore bar)\"") !=
+          std::string::npos);
+    CHECK(text.find("[\"OZAGR: Action sequence\"]") != std::string::npos);  // a step's source, by its section
+    CHECK(text.find("000:L") == std::string::npos);
     CHECK(text.find("**") == std::string::npos);
     std::istringstream lines(text);
     for (std::string l; std::getline(lines, l);) {
@@ -631,7 +634,7 @@ TEST_CASE("render_card: terminal text and Markdown") {
     CHECK(g114.find("Registered to:  G114") != std::string::npos);
     CHECK(g114.find("Cancel:         OC84L (M204)") != std::string::npos);
     std::string g78 = cat.render_card(*cat.find_cycle(78), false);
-    CHECK(g78.find("Q > K [004:L80]") != std::string::npos);
+    CHECK(g78.find("Q > K [\"G78 Variable pick cycle\"]") != std::string::npos);
     CHECK(g78.find("always incremental") != std::string::npos);
 }
 
