@@ -353,7 +353,7 @@ TEST_CASE("format lines agree with the per-argument format column") {
     }
 }
 
-TEST_CASE("fixed cycles of seed 004") {
+TEST_CASE("fixed cycles of the fixed cycles manual") {
     Catalog cat = shipped();
     for (int g : {77, 78, 79, 81, 82, 83, 84, 85, 86, 87, 88, 89, 186, 73, 74, 76}) {
         CAPTURE(g);
