@@ -61,7 +61,13 @@ std::string wrap(std::string_view text, std::size_t first_col, std::size_t inden
 std::string where(const std::string& manual, std::string_view source) {
     if (source.empty()) return {};
     const ManualSection* s = section_at(source);
-    if (!s) return find_manual(source.substr(0, source.find(':'))) ? std::string() : std::string(source);
+    if (!s) {
+        // A range over several sections of a known manual: the manual alone
+        // (the card names it under "Manual"); a shop's own text as written.
+        const Manual* m = find_manual(source.substr(0, source.find(':')));
+        if (!m) return std::string(source);
+        return m->key == manual ? std::string() : std::string(m->title);
+    }
     if (manual_of(*s).key == manual) return cite_heading(s->key);
     return cite(s->key);
 }

@@ -274,17 +274,14 @@ const ManualSection* section_at(std::string_view source) {
     if (!parse_source(source, number, line, last)) return nullptr;
     const Manual* m = find_manual(number);
     if (!m) return nullptr;
-    // The innermost section holding the whole first range; else the one
-    // holding its first line.
-    for (int until : {last, line}) {
-        const ManualSection* best = nullptr;
-        for (const auto& s : kSections) {
-            if (manual_key(s.key) != m->key || line < s.first_line || until > s.last_line) continue;
-            if (!best || s.last_line - s.first_line < best->last_line - best->first_line) best = &s;
-        }
-        if (best) return best;
+    // The innermost section holding the whole first range. A range over
+    // several sections (a whole manual) has none: the manual is cited alone.
+    const ManualSection* best = nullptr;
+    for (const auto& s : kSections) {
+        if (manual_key(s.key) != m->key || line < s.first_line || last > s.last_line) continue;
+        if (!best || s.last_line - s.first_line < best->last_line - best->first_line) best = &s;
     }
-    return nullptr;
+    return best;
 }
 
 std::string cite_source(std::string_view source) {

@@ -59,8 +59,8 @@ std::string cite(std::initializer_list<std::string_view> keys);
 std::string cite_heading(std::string_view key);
 
 // The innermost section holding the first range of a catalog source
-// ("004:L182-223", "000:L26-30, L42"), or else its first line; nullptr
-// when the source names no known manual or line.
+// ("004:L182-223", "000:L26-30, L42"); nullptr when the source names no
+// known manual or line, or when the range runs over several sections.
 const ManualSection* section_at(std::string_view source);
 // `cite` of `section_at(source)`; "" when it resolves to nothing.
 std::string cite_source(std::string_view source);

@@ -151,6 +151,8 @@ TEST_CASE("citations: a catalog source resolves to the innermost section holding
     REQUIRE(s != nullptr);
     CHECK(s->key == "back-counterboring/common-3");
     CHECK(cite_source("003:L103") == "Tap cycle (2) manual, \"Cautions (8)\"");
+    CHECK(section_at("003:L1-333") == nullptr);  // the whole manual: no one section
+    CHECK(cite_source("003:L1-333") == "");
     CHECK(section_at("009:L1") == nullptr);
     CHECK(section_at("shop manual p. 12") == nullptr);
     CHECK(cite_source("") == "");
@@ -184,7 +186,13 @@ TEST_CASE("citations: every source of the shipped catalog names a section") {
         ++sources;
         CAPTURE(where);
         CAPTURE(source);
-        CHECK(section_at(source) != nullptr);
+        // Each line it names lies in a section of the manual; a range over
+        // several sections (a whole manual) cites the manual alone.
+        static const std::regex lines(R"(^([0-9]{3}):L([0-9]+)(?:-([0-9]+))?)");
+        std::smatch m;
+        REQUIRE(std::regex_search(source, m, lines));
+        CHECK(section_at(m[1].str() + ":L" + m[2].str()) != nullptr);
+        if (m[3].matched) CHECK(section_at(m[1].str() + ":L" + m[3].str()) != nullptr);
     };
     auto check_spec = [&](const MacroSpec& m) {
         // Every entry names a manual of the table, except the G codes known
