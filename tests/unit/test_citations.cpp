@@ -127,6 +127,19 @@ TEST_CASE("citations: the table of the manuals is consistent") {
     }
 }
 
+TEST_CASE("citations: docs/manuals.md lists every manual and every section of the table") {
+    std::string doc = read_file(source_dir() / "docs" / "manuals.md");
+    for (const auto& m : manuals()) {
+        CAPTURE(m.key);
+        CHECK(doc.find("## " + std::string(m.title) + "\n") != std::string::npos);
+        CHECK(doc.find(std::string(m.japanese)) != std::string::npos);
+    }
+    for (const auto& s : manual_sections()) {
+        CAPTURE(s.key);
+        CHECK(doc.find("| " + std::string(s.heading) + " |") != std::string::npos);
+    }
+}
+
 TEST_CASE("citations: a key gives the manual's title and the section's heading") {
     CHECK(cite("fixed-cycles/g84") == "Fixed cycles manual, \"G84 Tap cycle\"");
     CHECK(cite("back-counterboring/common-3") == "Back counterboring macros manual, \"Common rules (3)\"");
