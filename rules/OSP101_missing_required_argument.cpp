@@ -35,7 +35,7 @@ public:
                              spec->name + " is missing " + list +
                                  ": the macro stops the machine with an alarm (B [423]/[619]) when it runs; add " +
                                  (missing.size() == 1 ? "it" : "them"));
-        d.notes.push_back({"required by the argument table of " + spec->manual + ": " + details, std::nullopt});
+        d.notes.push_back({"required by the argument table (" + macro::args_ref(*spec) + "): " + details, std::nullopt});
         for (const ArgSpec* a : missing)
             if (!a->note.empty()) d.notes.push_back({a->name + ": " + a->note, std::nullopt});
     }

@@ -41,7 +41,7 @@ public:
             auto& d = ctx.report(kMeta, a.word->range, std::move(msg));
             std::string names;
             for (const auto& s : spec->args) names += (names.empty() ? "" : " ") + s.name;
-            d.notes.push_back({spec->name + " takes: " + names + " (" + spec->manual + ")", std::nullopt});
+            d.notes.push_back({spec->name + " takes: " + names + " (" + macro::args_ref(*spec) + ")", std::nullopt});
         }
     }
 };

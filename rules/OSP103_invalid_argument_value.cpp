@@ -52,7 +52,7 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
         if (!k.value || k.range.empty()) continue;
         double v = *k.value;
         std::string shown = a.name + "=" + macro::format_number(v);
-        std::string src = a.source.empty() ? spec.manual : "seed " + a.source;
+        std::string src = macro::source_ref(spec, a.source);
         if (!a.allowed.empty()) {
             bool ok = false;
             std::string list;
@@ -104,7 +104,7 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
         auto& d = ctx.report(kMeta, where,
                              spec.name + " needs " + r.left + " " + r.op + " " + r.right + ", but " + r.left + " = " +
                                  macro::format_number(*l) + " and " + r.right + " = " + macro::format_number(*rv) +
-                                 " (" + (r.source.empty() ? spec.manual : "seed " + r.source) + ")" +
+                                 " (" + macro::source_ref(spec, r.source) + ")" +
                                  (r.inferred ? "; this constraint is inferred from the manual, not stated" : ""));
         if (!r.note.empty()) d.notes.push_back({r.note, std::nullopt});
     }

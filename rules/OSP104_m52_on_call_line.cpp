@@ -23,8 +23,8 @@ public:
                                  spec->name + " is not read by the macro: the tool does not return to the upper "
                                  "limit after the cycle; command PM=52 instead");
         d.notes.push_back({"\"M52 commanded in the CALL block has no effect, because the sub cannot read M52 "
-                           "internally. In that case command PM=52.\" (seed 000 L26-30; seed 001 L35-37; seed 002 "
-                           "L44-46)",
+                           "internally. In that case command PM=52.\" (" +
+                               macro::common_ref(ctx.catalog(), *spec, "M52") + ")",
                            std::nullopt});
         Fix fix;
         if (const MacroArg* pm = c->arg("PM"); pm && pm->word) {

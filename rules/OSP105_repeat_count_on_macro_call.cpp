@@ -20,8 +20,9 @@ public:
                              "Q repeats the call of " + spec->name + ", which does not support repeated calls: "
                              "some arguments are sign-inverted inside the macro, so from the 2nd call on the tool "
                              "may cut in the wrong direction without an alarm; write the call once per repetition");
-        d.notes.push_back({"\"Multiple calls of the subprogram with a Q command are not supported\" (seed 000 "
-                           "L108-120; seed 001 L112-123; seed 002 L115-137). The argument PQ is not a repeat count.",
+        d.notes.push_back({"\"Multiple calls of the subprogram with a Q command are not supported\" (" +
+                               macro::common_ref(ctx.catalog(), *spec, "Q count") +
+                               "). The argument PQ is not a repeat count.",
                            std::nullopt});
     }
 };

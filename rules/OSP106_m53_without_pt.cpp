@@ -32,8 +32,9 @@ public:
                              std::string("M53 is in effect but ") + spec->name +
                                  " has no PT: the macro returns to PT, not to the G71 level, and stops with an "
                                  "alarm when PT is missing; add PT=<return level>");
-        d.notes.push_back({"\"If M53 is commanded without a PT command -> alarm\" (seed 000 L32-36); G71 is not "
-                           "read because the macro is not a fixed cycle",
+        d.notes.push_back({"\"If M53 is commanded without a PT command -> alarm\" (" +
+                               macro::note_ref(ctx.catalog(), *spec, "M53") +
+                               "); G71 is not read because the macro is not a fixed cycle",
                            std::nullopt});
         if (!m53) d.notes.push_back({"M53 is modal from an earlier block", std::nullopt});
         if (c->kind == CallKind::ModinPositioning)

@@ -35,8 +35,7 @@ public:
                               " (non-zero); without a shift the macro stops with an alarm";
             if (req.inferred) msg += " (the manual states this for G17; for this plane it is read from the plane table)";
             auto& d = ctx.report(kMeta, macro::call_range(*c, v.block), std::move(msg));
-            d.notes.push_back({"at least one of " + names + " is required by " + spec->manual +
-                                   (req.source.empty() ? std::string() : " (seed " + req.source + ")"),
+            d.notes.push_back({"at least one of " + names + " is required (" + macro::source_ref(*spec, req.source) + ")",
                                std::nullopt});
         }
     }

@@ -20,11 +20,11 @@ public:
         if ((c->kind == CallKind::Call || c->kind == CallKind::Modin) && macro::is_subprogram_macro(*spec)) {
             codes = {3, 4, 7, 8, 12};
             what = "the subprogram call block";
-            source = "seed 000 L42-44; seed 001 L39-41; seed 002 L48-50";
+            source = macro::common_ref(ctx.catalog(), *spec, "M7/M8/M12");
         } else if (c->kind == CallKind::GCode && !spec->cancel.empty()) {
             codes = {7, 8, 12};
             what = "the declaration block";
-            source = "seed 003 L90";
+            source = cite("tap-cycle/cautions-4");
         } else {
             return;
         }

@@ -43,7 +43,8 @@ public:
             auto& d = ctx.report(kMeta, c->name_range,
                                  spec->name + " cannot be used with " + used + ": " + consequence +
                                      "; use " + documented_forms(*spec));
-            d.notes.push_back({spec->manual + " documents " + spec->name + " only as " + documented_forms(*spec),
+            d.notes.push_back({"the manual documents " + spec->name + " only as " + documented_forms(*spec) +
+                                   " (" + macro::format_ref(*spec) + ")",
                                std::nullopt});
             return;
         }
@@ -54,7 +55,7 @@ public:
                                               "command G90 before the call");
             d.notes.push_back({"\"This program cannot be used with MODIN. It cannot be used in G91 mode either "
                                "... In either case no alarm results; the motion is executed but is incorrect\" (" +
-                                   spec->manual + ")",
+                                   macro::source_ref(*spec, "") + ")",
                                std::nullopt});
         }
     }

@@ -20,7 +20,7 @@ public:
                              spec->name + " works in the mm unit system only, but inch units (G20) are in effect: "
                                           "its internal distances are taken as inches and the tool moves 25.4 times "
                                           "too far; command G21 and metric values");
-        d.notes.push_back({"\"Only the mm unit system can be used\" (" + spec->manual + ")", std::nullopt});
+        d.notes.push_back({"\"Only the mm unit system can be used\" (" + macro::note_ref(ctx.catalog(), *spec, "mm unit") + ")", std::nullopt});
     }
 };
 

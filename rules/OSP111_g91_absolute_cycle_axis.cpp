@@ -30,7 +30,7 @@ public:
         msg += "; check that these values are meant that way";
         auto& d = ctx.report(kMeta, c->name_range, std::move(msg));
         d.notes.push_back({"\"Cycle-axis dimensions: command them as dimensions from the workpiece origin even "
-                           "during G91 mode. (The positioning-plane axes follow G90/G91.)\" (" + spec->manual + ")",
+                           "during G91 mode. (The positioning-plane axes follow G90/G91.)\" (" + macro::note_ref(ctx.catalog(), *spec, "Cycle-axis dimensions") + ")",
                            std::nullopt});
     }
 };

@@ -44,7 +44,7 @@ public:
                              asked + " asks " + spec->name + " for the upper-limit return, but the plane is " +
                                  plane_name(v.before.plane.value) + ": the macro returns to the Z+ limit only in " +
                                  "G17 mode, so the tool stays at the return level; retract explicitly after the call");
-        d.notes.push_back({"step " + step->step + ": \"" + step->text + "\" (seed " + step->source + ")", std::nullopt});
+        d.notes.push_back({"step " + step->step + ": \"" + step->text + "\" (" + macro::source_ref(*spec, step->source) + ")", std::nullopt});
     }
 };
 

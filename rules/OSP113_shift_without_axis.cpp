@@ -28,8 +28,8 @@ public:
                                      ": the plane table of " + spec->name + " leaves it blank, so this shift is "
                                      "along the cycle axis and does not move the tool clear of the hole; give the "
                                      "shift on a positioning-plane axis instead");
-            d.notes.push_back({"plane table: " + spec->manual +
-                                   (spec->plane_table.empty() ? std::string() : " (" + spec->plane_table + ")"),
+            const PlaneTable* table = spec->plane_table.empty() ? nullptr : ctx.catalog().plane_table(spec->plane_table);
+            d.notes.push_back({"plane table: " + macro::source_ref(*spec, table ? std::string_view(table->source) : ""),
                                std::nullopt});
         }
     }

@@ -28,7 +28,7 @@ public:
                                      "after the cycle is not defined; remove it and retract explicitly");
             d.notes.push_back({"the format of " + spec->name +
                                    (macro::is_subprogram_macro(*spec) ? " lists only PM=52 (" : " lists neither PM nor PT (") +
-                                   spec->manual + ")",
+                                   macro::format_ref(*spec) + ")",
                                std::nullopt});
         }
     }

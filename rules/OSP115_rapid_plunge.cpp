@@ -40,11 +40,11 @@ public:
                                  plunge->first->step + ": " + plunge->first->text + ", " + plunge->first->feed +
                                  "): a rapid plunge into the slot start breaks the cutter if anything is in the "
                                  "way; give " + feed->name + "=<feed> for a G1 plunge");
-        d.notes.push_back({"seed " + plunge->first->source + "; " + feed->name + ": " + feed->meaning, std::nullopt});
+        d.notes.push_back({macro::source_ref(*spec, plunge->first->source) + "; " + feed->name + ": " + feed->meaning, std::nullopt});
         // The manual's own caution about this plunge, where the catalog has it.
         for (const auto& n : spec->notes)
             if (n.text.find(feed->name) != std::string::npos)
-                d.notes.push_back({n.text + " (seed " + n.source + ")", std::nullopt});
+                d.notes.push_back({n.text + " (" + macro::source_ref(*spec, n.source) + ")", std::nullopt});
     }
 };
 

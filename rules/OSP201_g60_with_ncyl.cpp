@@ -12,10 +12,8 @@ constexpr RuleMeta kMeta{"OSP201", "g60-with-ncyl", Severity::Error,
                          "G60 and NCYL together in a program using the OG87*/OZAGR/OM100/OKYOX macros"};
 
 // Where the macro's manual forbids the combination.
-std::string forbidding_source(const MacroSpec& s) {
-    if (s.manual.rfind("seed 002", 0) == 0) return "seed 002 L227";
-    if (s.manual.rfind("seed 000", 0) == 0) return "seed 000 L54-56";
-    return macro::source_ref(s, "");
+std::string forbidding_source(const Catalog& catalog, const MacroSpec& s) {
+    return macro::note_ref(catalog, s, "G60");
 }
 
 class G60WithNcyl final : public RuleBase<G60WithNcyl> {
@@ -47,7 +45,7 @@ public:
             }
         }
         // Elsewhere in a program that uses these macros. Under a fixed cycle
-        // (G114 above all, "NCYL/G60 are also OK", seed 003 L80) the combination
+        // (G114 above all, "NCYL/G60 are also OK" in the tap cycle manual) the combination
         // is the control's own business: only blocks known to be outside any
         // MODIN of such a macro and outside any cycle are kept.
         if (!v.before.modin.known || !v.after.cycle.known || v.after.cycle.value) return;
@@ -63,7 +61,7 @@ public:
 private:
     void report(RuleContext& ctx, ByteRange where, const MacroSpec& spec, const std::string& context,
                 std::optional<ByteRange> call) {
-        std::string src = forbidding_source(spec);
+        std::string src = forbidding_source(ctx.catalog(), spec);
         auto& d = ctx.report(kMeta, where,
                              "G60 is modal and NCYL is on this block while " + context +
                                  ": under G60 the control ignores NCYL, so the cycle runs here and the tool hits "

@@ -12,11 +12,8 @@ namespace {
 constexpr RuleMeta kMeta{"OSP202", "reserved-common-variable", Severity::Warning,
                          "VC120-VC128 used in a program that calls macros which overwrite them"};
 
-std::string clobber_source(const MacroSpec& s) {
-    if (s.manual.rfind("seed 000", 0) == 0) return "seed 000 L105-107";
-    if (s.manual.rfind("seed 001", 0) == 0) return "seed 001 L109-111";
-    if (s.manual.rfind("seed 002", 0) == 0) return "seed 002 L109-113";
-    return macro::source_ref(s, "");
+std::string clobber_source(const Catalog& catalog, const MacroSpec& s) {
+    return macro::note_ref(catalog, s, "VC120");
 }
 
 struct Use {
@@ -78,7 +75,7 @@ public:
                 var + " is " + (u.write ? "written" : "read") + " here, but " + names +
                     (distinct == 1 ? " uses VC120-VC128 internally and overwrites them when it runs ("
                                    : " use VC120-VC128 internally and overwrite them when they run (") +
-                    clobber_source(*first.spec) +
+                    clobber_source(ctx.catalog(), *first.spec) +
                     "): a value kept there across the call is lost; use a common variable outside VC120-VC128");
             size_t shown = 0;
             for (const auto& c : calls_) {

@@ -41,7 +41,7 @@ public:
         auto& d = ctx.report(kMeta, now->start_range.empty() ? b.range : now->start_range,
                              cycle_name(*now) + " is commanded while " + cycle_name(*old) +
                                  " is still modal: addresses mean different things in each cycle, and the control "
-                                 "may stop with an alarm or read the old values (seed 004 L18-20); command " +
+                                 "may stop with an alarm or read the old values (" + cite("fixed-cycles/alarms") + "); command " +
                                  cancel_hint(ctx, *old) + " on the block before");
         if (!old->start_range.empty())
             d.notes.push_back({cycle_name(*old) + " was started here", ctx.resolve(old->start_range)});
@@ -63,7 +63,7 @@ public:
                    cycle_name(*c) + " is still modal where the program " + (p.is_subprogram ? "returns" : "ends") +
                        ": no cancel follows it" +
                        (p.is_subprogram ? ", so the caller's next positioning block machines another hole" : "") +
-                       " (seed 004 L22: \"check that the G80 cancel code is commanded\"); command " +
+                       " (\"check that the G80 cancel code is commanded\", " + cite("fixed-cycles/alarms") + "); command " +
                        cancel_hint(ctx, *c) + " after the last hole");
     }
 
@@ -83,8 +83,8 @@ private:
                              cycle_name(c) + " is never cancelled before the program " +
                                  (p.is_subprogram ? "returns" : "ends") +
                                  ": a G0, G1, G2 or G3 follows it, but whether an interpolation code ends a fixed "
-                                 "cycle is not documented, so the cycle may still be modal (seed 004 L22: \"check that "
-                                 "the G80 cancel code is commanded\"); command " +
+                                 "cycle is not documented, so the cycle may still be modal (\"check that the G80 cancel "
+                                 "code is commanded\", " + cite("fixed-cycles/alarms") + "); command " +
                                  cancel_hint(ctx, c) + " after the last hole");
         d.notes.push_back({"osplint reads the cycle as perhaps still modal after the interpolation code; positioning "
                            "blocks after it may machine holes",

@@ -60,11 +60,12 @@ public:
             }
             if (!dedupe(c, Val<double>{}, r, z, true)) return;
             problem = fmt::format(
-                "under G91 R is measured from the initial point and Z from the R point (seed 004 L12-14), so R "
+                "under G91 R is measured from the initial point and Z from the R point ({}), so R "
                 "must be 0 or negative and Z negative{}; here R{} and {}{}{}",
+                cite("fixed-cycles/g91"),
                 g17 ? "" : " (or both positive for a cycle axis pointing the other way)", num(r), axis_name,
                 num(z),
-                r > 0 && z < 0 ? ": R above the initial point raises an alarm (seed 004 L20-22)"
+                r > 0 && z < 0 ? ": R above the initial point raises an alarm (" + cite("fixed-cycles/alarms") + ")"
                 : z == 0       ? ": Z0 leaves no depth to machine"
                                : ": the hole bottom is not below the R point");
         } else {
@@ -93,14 +94,15 @@ public:
                                                 : std::string())
                                      : std::string("initial point unknown");
             if (i_point.known && r > i_point.value && (!have_z || r > z))
-                problem = fmt::format("R{} is above the {}: the control stops with an alarm (seed 004 L20-22); "
+                problem = fmt::format("R{} is above the {}: the control stops with an alarm ({}); "
                                       "start the cycle from above R, or lower R",
-                                      num(r), i_text);
+                                      num(r), i_text, cite("fixed-cycles/alarms"));
             else
                 problem = fmt::format("the hole bottom {}{} is not below R{} ({}): the points must be in the "
-                                      "order I > R > Z (seed 004 L5-9, L22), otherwise the cycle machines nothing "
+                                      "order I > R > Z ({}), otherwise the cycle machines nothing "
                                       "or feeds the wrong way; Z is the final depth",
-                                      axis_name, num(z), num(r), i_text);
+                                      axis_name, num(z), num(r), i_text,
+                                      cite({"fixed-cycles/basic", "fixed-cycles/alarms"}));
         }
         ByteRange where = r_word ? r_word->range : z_word ? z_word->range : !c->start_range.empty() &&
                                                                                   c->start_line == b.line
@@ -110,8 +112,8 @@ public:
         if (c->start_line != b.line && !c->start_range.empty())
             d.notes.push_back({name + " was commanded here", ctx.resolve(c->start_range)});
         if (!c->macro.empty())
-            d.notes.push_back({c->macro + " follows the fixed-cycle rules for the cycle axis, also under G91 (seed "
-                               "003 L76-84)",
+            d.notes.push_back({c->macro + " follows the fixed-cycle rules for the cycle axis, also under G91 (" +
+                                   cite({"tap-cycle/cautions-1", "tap-cycle/cautions-2"}) + ")",
                                std::nullopt});
     }
 

@@ -31,7 +31,7 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || !v.after.cycle_return.is(CycleReturn::R) || !tapper_cycle(ctx, *c)) return;
-        // Synchronised tapping (M843 ... M845) uses no tapper (seed 004 L202-213).
+        // Synchronised tapping (M843 ... M845) uses no tapper (the synchronized tap of the fixed cycles manual).
         if (c->macro.empty() && !v.after.sync_tap.is(false)) return;
         // Report where the combination starts: the cycle is commanded under G99,
         // or G99 is commanded while the cycle is modal.
@@ -44,14 +44,15 @@ public:
         std::string msg =
             fmt::format("G{} runs a tapper under G99 (R-point return): after each hole the tool moves on at the R "
                         "point, while the tap may still be engaged in the workpiece, which breaks the tap and the "
-                        "workpiece (seed 004 L199-201{}); use G98 (return to the initial point) for this cycle",
-                        c->code, macro_cycle ? ", read for G114" : "");
+                        "workpiece ({}{}); use G98 (return to the initial point) for this cycle",
+                        c->code, cite("fixed-cycles/g84-normal"), macro_cycle ? ", read for G114" : "");
         auto& d = ctx.report(kMeta, where ? where->range : v.block.range, std::move(msg));
         if (macro_cycle)
-            d.notes.push_back({"Seed 003 does not mention G99; " + c->macro +
+            d.notes.push_back({"The " + cite("tap-cycle") + " does not mention G99; " + c->macro +
                                    " is a fixed-cycle compatible tapping cycle for auto-reverse tappers, which "
-                                   "return with the tap extended (seed 003 L99-101), so the tapper warning for G84 "
-                                   "is applied to it (inferred, MACROS.md P-T16)",
+                                   "return with the tap extended (" + cite("tap-cycle/cautions-7") +
+                                   "), so the tapper warning for G84 is applied to it (an inference, not stated "
+                                   "in the manuals)",
                                std::nullopt});
         if (!same_cycle && !c->start_range.empty() && (!where || !(c->start_range == where->range)))
             d.notes.push_back({fmt::format("G{} is commanded here", c->code), ctx.resolve(c->start_range)});

@@ -23,8 +23,8 @@ public:
             const std::string code = start ? "M843" : "M845";
             auto& d = ctx.report(kMeta, w.range,
                                  code + " shares this block with other words: M843 and M845 cannot be commanded "
-                                        "together with any other word (seed 004 L212), the control rejects the "
-                                        "block; write " + code + " alone on its own line " +
+                                        "together with any other word (" + cite("fixed-cycles/g84-sync") +
+                                        "), the control rejects the block; write " + code + " alone on its own line " +
                                         (start ? "before the tapping cycle" : "after G80"));
             // Fix: move the code to a line of its own (before the block for M843,
             // after it for M845). Not offered when moving it would change which

@@ -35,10 +35,11 @@ public:
         auto& d = ctx.report(kMeta, g80->range,
                              "G80 ends the " + g + " (" + c->macro + ") mode but cannot undo what " + c->macro +
                                  " did: the spindle override and the cutting-feed override stay disabled for "
-                                 "everything that follows (seed 003 L103-107); cancel with " + instead + " instead");
+                                 "everything that follows (" + cite("tap-cycle/cautions-8") + "); cancel with " + instead +
+                                 " instead");
         d.notes.push_back({"\"After this program is used, spindle override and cutting-feed override become invalid. "
                            "G80 naturally cannot undo this. If possible, cancel not with G80 but with the cancel "
-                           "M-code macro.\" (seed 003 L103-107)",
+                           "M-code macro.\" (" + cite("tap-cycle/cautions-8") + ")",
                            std::nullopt});
         if (!c->start_range.empty()) d.notes.push_back({g + " mode starts here", ctx.resolve(c->start_range)});
         if (code.empty()) return;

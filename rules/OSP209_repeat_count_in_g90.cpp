@@ -6,14 +6,6 @@
 namespace osplint {
 namespace {
 
-// "004:L95" -> "seed 004 L95"
-std::string cite(const std::string& src) {
-    std::string out = "seed " + src;
-    for (auto& ch : out)
-        if (ch == ':') ch = ' ';
-    return out;
-}
-
 constexpr RuleMeta kMeta{"OSP209", "repeat-count-in-g90", Severity::Warning,
                          "L (repeat count) on a fixed cycle in G90: valid only under G91"};
 
@@ -30,7 +22,7 @@ public:
         if (!spec) return;
         const ArgSpec* arg = spec->arg("L");
         if (!arg || !arg->g91_only) return;
-        std::string src = arg->source.empty() ? std::string("seed 004") : cite(arg->source);
+        std::string src = macro::source_ref(*spec, arg->source);
         ctx.report(kMeta, l->range,
                    fmt::format("L{} (repeat count) on G{} is valid only in G91 mode ({}): under G90 it does not "
                                "give a row of holes, since every repetition names the same absolute position; use "

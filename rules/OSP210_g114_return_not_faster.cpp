@@ -23,32 +23,35 @@ public:
         if (!fa_spec || !f_spec) return;
         const MacroArg* fa = macro::given(*c, *fa_spec);
         const MacroArg* f = macro::given(*c, *f_spec);
-        // F omitted: the current feed is used (seed 003 L66).
+        // F omitted: the current feed is used (the argument list).
         Val<double> feed = f ? f->value : v.before.feed;
         const std::string g(ctx.text(c->name_range));
         std::string msg;
         ByteRange where = c->name_range;
         if (!fa) {
-            msg = g + " has no FA: the return rate defaults to F (seed 003 L68)" +
+            msg = g + " has no FA: the return rate defaults to F (" + cite("tap-cycle/args") + ")" +
                   (feed.known ? " = " + macro::format_number(feed.value) : std::string()) +
                   ", and a return exactly at the tapping feed makes the tapper's reverse clutch slip, runs unsteadily "
-                  "and wears the clutch (seed 003 L307-311); give FA slightly faster than F";
+                  "and wears the clutch (" + cite("tap-cycle/tappers") + "); give FA slightly faster than F";
         } else {
             // Both written: OSP103 checks the relation FA > F of the catalog.
             if (f || !fa->value.known || !feed.known || fa->value.value > feed.value) return;
             where = fa->word ? fa->word->range : where;
             const bool equal = fa->value.value == feed.value;
-            msg = fmt::format("FA{} is {} the current feed F{} that {} uses (no F on this line): {} (seed 003 "
-                              "L307-311, L327); give FA slightly faster than F",
+            msg = fmt::format("FA{} is {} the current feed F{} that {} uses (no F on this line): {} ({}); "
+                              "give FA slightly faster than F",
                               macro::format_number(fa->value.value), equal ? "equal to" : "slower than",
                               macro::format_number(feed.value), g,
                               equal ? "a return exactly at the tapping feed makes the reverse clutch slip"
                                     : "a return slower than the pitch makes the reverse clutch engage and "
-                                      "disengage repeatedly");
+                                      "disengage repeatedly",
+                              cite("tap-cycle/tappers"));
         }
         auto& d = ctx.report(kMeta, where, std::move(msg));
-        d.notes.push_back({"\"The return speed is then set slightly faster than the pitch.\" (seed 003 L307); the "
-                           "default FA = F contradicts it (MACROS.md A-43)",
+        d.notes.push_back({"\"The return speed is then set slightly faster than the pitch.\" (" +
+                               cite("tap-cycle/tappers") +
+                               "); the manual's own default FA = F (" + cite_heading("tap-cycle/args") +
+                               ") is the very case it warns against",
                            std::nullopt});
     }
 };

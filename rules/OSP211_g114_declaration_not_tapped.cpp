@@ -75,12 +75,12 @@ private:
         auto& d = ctx.report(
             kMeta, p.xy_range,
             fmt::format("X{} Y{} on the {} line only position the tool: the declaration block runs like NCYL G8*, "
-                        "without the cycle axis, so no hole is tapped there (seed 003 L86-88), and {}; if a hole "
+                        "without the cycle axis, so no hole is tapped there ({}), and {}; if a hole "
                         "is wanted at this position, command X{} Y{} again on the block after the {} line",
-                        macro::format_number(p.x), macro::format_number(p.y), p.g,
+                        macro::format_number(p.x), macro::format_number(p.y), p.g, cite("tap-cycle/cautions-3"),
                         no_hole ? "the mode ends before any hole" : "the next hole is elsewhere",
                         macro::format_number(p.x), macro::format_number(p.y), p.g));
-        d.notes.push_back({"X/Y of the declaration block are a \"dummy positioning\" (seed 003 L54-56)",
+        d.notes.push_back({"X/Y of the declaration block are a \"dummy positioning\" (" + cite("tap-cycle/args") + ")",
                            std::nullopt});
     }
 

@@ -54,8 +54,8 @@ public:
         reported_.insert(stop);
         auto& d = ctx.report(kMeta, b.range,
                              what + " with the spindle stopped: the G114 cancel on line " + std::to_string(stop) +
-                                 " stopped the spindle (\"the spindle stops too!\", seed 003 L193) and no M3/M4 "
-                                 "follows it; command M3 (or M4) with S before this block");
+                                 " stopped the spindle (\"the spindle stops too!\", " + cite("tap-cycle/differences") +
+                                 ") and no M3/M4 follows it; command M3 (or M4) with S before this block");
         if (auto it = stops_.find(stop); it != stops_.end())
             d.notes.push_back({"the spindle stops here", ctx.resolve(it->second)});
     }

@@ -17,8 +17,9 @@ public:
         if (!c->known_absent("P")) return;
         ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range,
                    "G82 has no P: the tool does not dwell at the hole bottom, so the cycle works like G81 and "
-                   "loses the depth accuracy the dwell gives a blind hole or counterbore (seed 004 L101-111); add "
-                   "P, the dwell in seconds (revolutions x 60 / S, seed 004 L113-117), or use G81");
+                   "loses the depth accuracy the dwell gives a blind hole or counterbore (" +
+                       cite("fixed-cycles/g82") +
+                       "); add P, the dwell in seconds (revolutions x 60 / S), or use G81");
     }
 };
 

@@ -18,8 +18,8 @@ public:
         if (!p || !c->known_absent("J")) return;
         ctx.report(kMeta, p->range,
                    "P" + p->value_text + " on G83 has no effect: the dwell is valid only when J (the withdrawal "
-                   "amount) is commanded (seed 004 L131-132), and this pick cycle has no J, so it returns to R "
-                   "after every peck without dwelling; add J, or remove P");
+                   "amount) is commanded (" + cite("fixed-cycles/g83") +
+                       "), and this pick cycle has no J, so it returns to R after every peck without dwelling; add J, or remove P");
     }
 };
 

@@ -17,8 +17,8 @@ public:
             if (w.address == "G" && w.number && *w.number == 100) g100 = &w;
         if (!g100 || !no_cycle(v.before) || !no_cycle(v.after)) return;
         ctx.report(kMeta, g100->range,
-                   "G100 is ignored here: it is valid only while a fixed cycle is modal (seed 004 L286), and no "
-                   "cycle is; the block runs as if G100 were not there. Command G100 on a hole block of the cycle "
+                   "G100 is ignored here: it is valid only while a fixed cycle is modal (" + cite("fixed-cycles/g100") +
+                       "), and no cycle is; the block runs as if G100 were not there. Command G100 on a hole block of the cycle "
                    "whose hole is to be skipped, or remove it");
     }
 };

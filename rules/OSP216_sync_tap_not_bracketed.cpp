@@ -27,7 +27,7 @@ public:
                 auto& d = ctx.report(kMeta, w.range,
                                      "M" + std::to_string(static_cast<int>(code)) +
                                          " inside synchronised tapping (after M843, before M845): for synchronised "
-                                         "tapping M03 becomes M843 and M05 becomes M845 (seed 004 L211-212); " +
+                                         "tapping M03 becomes M843 and M05 becomes M845 (" + cite("fixed-cycles/g84-sync") + "); " +
                                          (stop ? std::string("end the mode with M845, alone on its line, after G80")
                                                : std::string("end the mode with M845 first, or use M843")));
                 if (last_m843_) d.notes.push_back({"synchronised tapping starts here", ctx.resolve(*last_m843_)});
@@ -40,8 +40,8 @@ public:
         ctx.report(kMeta, *last_m843_,
                    "M843 starts synchronised tapping, but no M845 follows it before the program " +
                        std::string(p.is_subprogram ? "returns" : "ends") +
-                       ": the spindle stays in the synchronised mode; after G80 write M845, alone on its line "
-                       "(seed 004 L211-221)");
+                       ": the spindle stays in the synchronised mode; after G80 write M845, alone on its line (" +
+                       cite("fixed-cycles/g84-sync") + ")");
     }
 
 private:

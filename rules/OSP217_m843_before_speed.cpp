@@ -18,8 +18,8 @@ public:
             ctx.report(kMeta, w.range,
                        "M843 starts the spindle for synchronised tapping, but no S has been commanded in this "
                        "program yet, so the speed it runs at is whatever the control last had; command the spindle "
-                       "speed first (seed 004 L216: \"command the spindle speed first\"), e.g. on the positioning "
-                       "block before M843");
+                       "speed first (\"command the spindle speed first\", " + cite("fixed-cycles/g84-sync") +
+                           "), e.g. on the positioning block before M843");
         }
     }
 };

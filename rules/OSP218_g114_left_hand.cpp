@@ -26,10 +26,10 @@ public:
             if (w.address == "M" && w.number && *w.number == 4) where = w.range;
         ctx.report(kMeta, where,
                    fmt::format("G{} ({}) runs with the spindle in reverse (M4): there is no left-hand-thread version "
-                               "of this tapping cycle (seed 003 L44), the auto-reverse tapper is driven the wrong "
+                               "of this tapping cycle ({}), the auto-reverse tapper is driven the wrong "
                                "way; use M3 and a right-hand tap, or left-hand tapping only with the optional "
                                "spindle-reversal function",
-                               c->code, c->macro));
+                               c->code, c->macro, cite("tap-cycle/conditions")));
     }
 };
 

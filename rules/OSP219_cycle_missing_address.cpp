@@ -7,14 +7,6 @@
 namespace osplint {
 namespace {
 
-// "004:L95" -> "seed 004 L95"
-std::string cite(const std::string& src) {
-    std::string out = "seed " + src;
-    for (auto& ch : out)
-        if (ch == ':') ch = ' ';
-    return out;
-}
-
 constexpr RuleMeta kMeta{"OSP219", "cycle-missing-address", Severity::Error,
                          "A fixed cycle started without an address its command format requires"};
 
@@ -65,7 +57,7 @@ public:
                                          c->code, missing, missing.find(',') == std::string::npos ? "it is" : "they are",
                                          format.empty() ? std::string() : " `" + format + "`",
                                          missing.find(',') == std::string::npos ? "it" : "them"));
-        d.notes.push_back({details + " (" + cite(source.empty() ? spec->source : source) + ")", std::nullopt});
+        d.notes.push_back({details + " (" + macro::source_ref(*spec, source) + ")", std::nullopt});
     }
 };
 

@@ -18,8 +18,8 @@ public:
         if (!c->known_absent("I") || !c->known_absent("J")) return;
         ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range,
                    "G88 has neither I nor J: after the oriented stop the tool is relieved by the shift direction "
-                   "and amount stored in the setting parameters (seed 004 L279-281); if this tool's edge is "
-                   "oriented differently from what they assume, the relief goes the wrong way or by the wrong "
+                   "and amount stored in the setting parameters (" + cite("fixed-cycles/g88") +
+                       "); if this tool's edge is oriented differently from what they assume, the relief goes the wrong way or by the wrong "
                    "amount and the edge drags on the bore. Command I and J explicitly for this tool");
     }
 };

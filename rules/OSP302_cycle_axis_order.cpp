@@ -172,7 +172,7 @@ private:
             need = "it needs " + r.left + " " + r.op + " " + r.right;
         std::string msg = spec.name + " cannot run its action sequence in this order: " + need + ", but " + r.left +
                           " = " + l.shown + " and " + r.right + " = " + rt.shown;
-        msg += " (" + (r.source.empty() ? spec.manual : "seed " + r.source) + ")";
+        msg += " (" + macro::source_ref(spec, r.source) + ")";
         if (r.inferred)
             msg += std::string("; this ") + (points ? "order" : "constraint") +
                    " is inferred from the action sequence, the manual does not state it";
@@ -185,8 +185,8 @@ private:
         if (plane && r.plane && macro::plane_number(*plane) != r.plane)
             d.notes.push_back({std::string("the manual describes G") + std::to_string(r.plane) + "; in " +
                                    plane_name(*plane) + " the cycle axis is " + ax + " and \"above\" is read as +" +
-                                   ax + " (horizontal use: the macro itself does not check this order, seed 000 L46, "
-                                   "001 L43, 002 L52)",
+                                   ax + " (horizontal use: the macro itself does not check this order, " +
+                                   macro::common_ref(ctx.catalog(), spec, "order of the R point") + ")",
                                std::nullopt});
         if (v.call->kind == CallKind::ModinPositioning)
             d.notes.push_back({"the macro runs here because MODIN " + spec.name + " (line " +

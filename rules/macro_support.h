@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "catalog/catalog.h"
+#include "catalog/citations.h"
 #include "engine/rule.h"
 
 namespace osplint::macro {
@@ -27,7 +28,8 @@ inline const MacroSpec* shop_macro(const MacroCall* c) {
 }
 
 // The subprogram macros that read their arguments as locals and cannot see
-// M52 on the call line (seeds 000-002), as opposed to G-code cycle macros.
+// M52 on the call line (the back counterboring, wall finishing and keyway
+// manuals), as opposed to G-code cycle macros.
 inline bool is_subprogram_macro(const MacroSpec& s) { return s.m52 == M52Mode::IgnoredUsePM52; }
 
 // The M word `code` written on the call line, or nullptr.
@@ -45,10 +47,54 @@ inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) {
     return nullptr;
 }
 
+// Where a fact of the catalog is printed, as a citation: the manual and the
+// section holding `line_source` (else the macro's own source). A shop's
+// macro from a manual outside the citation table is named as its entry says.
 inline std::string source_ref(const MacroSpec& s, std::string_view line_source) {
-    std::string where = line_source.empty() ? s.source : std::string(line_source);
-    if (where.empty()) return s.manual;
-    return "seed " + where;
+    std::string_view where = line_source.empty() ? std::string_view(s.source) : line_source;
+    if (std::string c = cite_source(where); !c.empty()) return c;
+    if (const Manual* m = find_manual(s.manual)) return std::string(m->title);
+    return s.manual;
+}
+
+// The manual of a macro by its title ("Keyway macros manual"), or the
+// catalog entry's own text for a manual outside the citation table.
+inline std::string manual_name(const MacroSpec& s) {
+    if (const Manual* m = find_manual(s.manual)) return std::string(m->title);
+    return s.manual.empty() ? std::string("its manual") : s.manual;
+}
+
+// Where the macro's notes, or else the common rules of its manual, say
+// something containing `needle`, as a citation; the macro's section when
+// neither does.
+inline std::string note_ref(const Catalog& catalog, const MacroSpec& s, std::string_view needle) {
+    for (const auto& n : s.notes)
+        if (n.text.find(needle) != std::string::npos) return source_ref(s, n.source);
+    if (const CommonRules* common = s.common.empty() ? nullptr : catalog.common_rules(s.common))
+        for (const auto& n : common->notes)
+            if (n.text.find(needle) != std::string::npos) return source_ref(s, n.source);
+    return source_ref(s, "");
+}
+
+// As note_ref, but the manual's common rules first: the citation of a rule
+// every macro of the manual shares.
+inline std::string common_ref(const Catalog& catalog, const MacroSpec& s, std::string_view needle) {
+    if (const CommonRules* common = s.common.empty() ? nullptr : catalog.common_rules(s.common))
+        for (const auto& n : common->notes)
+            if (n.text.find(needle) != std::string::npos) return source_ref(s, n.source);
+    return note_ref(catalog, s, needle);
+}
+
+// Where the macro's command format is printed, as a citation.
+inline std::string format_ref(const MacroSpec& s) {
+    return source_ref(s, s.formats.empty() ? std::string_view() : std::string_view(s.formats.front().source));
+}
+
+// Where the macro's argument table is printed, as a citation.
+inline std::string args_ref(const MacroSpec& s) {
+    for (const auto& a : s.args)
+        if (!a.source.empty() && !a.undocumented) return source_ref(s, a.source);
+    return source_ref(s, "");
 }
 
 // Where to point a finding about the whole call.

@@ -170,10 +170,10 @@ struct CatalogNote {
     std::string source;
 };
 
-// Where the manuals contradict themselves: the item of MACROS.md §4, what is
+// Where the manuals contradict themselves: what they disagree on, what is
 // taken and why. `open` readings can be changed in the configuration.
 struct Reading {
-    std::string id;  // "A-34"
+    std::string id;  // a key of the reading ("okylx-format"), never shown to users
     std::string issue;
     std::string reading;
     bool open = false;
@@ -186,7 +186,7 @@ struct MacroSpec {
     int gcode = 0;     // fixed cycles: 81
     std::string family;
     std::string title;
-    std::string manual;  // "seed 000 (OG87EX, 2001-07-30)"
+    std::string manual;  // a key of catalog/citations.h ("back-counterboring"), or a shop's own text
     std::string source;  // "000:L552-648"
     std::vector<MacroForm> forms;
     bool args_documented = true;  // false: argument table unknown (accept any)
@@ -227,7 +227,7 @@ using CycleSpec = MacroSpec;
 
 // A plane-designation table as printed in a manual, with the reading taken.
 struct PlaneTable {
-    std::string id;  // "seed000"
+    std::string id;  // the manual's key ("back-counterboring")
     std::string source;
     std::vector<std::string> columns;
     std::array<std::vector<std::string>, 3> rows;  // G17, G18, G19 cells as printed ("" = blank)
@@ -236,7 +236,7 @@ struct PlaneTable {
 
 // The common rules of one manual (cautions shared by all its macros).
 struct CommonRules {
-    std::string id;  // "seed000"
+    std::string id;  // the manual's key ("back-counterboring")
     std::string title;
     std::string source;
     std::vector<CatalogNote> notes;

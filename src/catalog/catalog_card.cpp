@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "catalog/catalog.h"
+#include "catalog/citations.h"
 
 namespace osplint {
 
@@ -51,6 +52,39 @@ std::string wrap(std::string_view text, std::size_t first_col, std::size_t inden
         i = j;
     }
     return out;
+}
+
+// Where a fact is printed, as a reader can look it up: the section's heading
+// when it is in the macro's own manual, the manual and the section otherwise.
+// A source of a manual outside the citation table (a shop's own) is kept as
+// written.
+std::string where(const std::string& manual, std::string_view source) {
+    if (source.empty()) return {};
+    const ManualSection* s = section_at(source);
+    if (!s) {
+        // A range over several sections of a known manual: the manual alone
+        // (the card names it under "Manual"); a shop's own text as written.
+        const Manual* m = find_manual(source.substr(0, source.find(':')));
+        if (!m) return std::string(source);
+        return m->key == manual ? std::string() : std::string(m->title);
+    }
+    if (manual_of(*s).key == manual) return cite_heading(s->key);
+    return cite(s->key);
+}
+
+// " [where]", or "" when there is nothing to say.
+std::string where_suffix(const std::string& manual, std::string_view source) {
+    std::string w = where(manual, source);
+    return w.empty() ? w : " [" + w + "]";
+}
+
+// The manual as a title: "Fixed cycles manual (OG84L, 2001-12-30)".
+std::string manual_title(const std::string& manual) {
+    const Manual* m = find_manual(manual);
+    if (!m) return manual;
+    std::string extra = std::string(m->program);
+    if (!m->date.empty()) extra += (extra.empty() ? "" : ", ") + std::string(m->date);
+    return std::string(m->title) + (extra.empty() ? "" : " (" + extra + ")");
 }
 
 std::string omitted_text(const ArgSpec& a) {
@@ -120,22 +154,22 @@ std::string step_suffix(const ActionStep& st) {
     return s;
 }
 
-std::string relation_text(const Relation& rel) {
+std::string relation_text(const std::string& manual, const Relation& rel) {
     std::string s = rel.left + " " + rel.op + " " + rel.right;
     if (rel.plane) s += " in G" + std::to_string(rel.plane);
     if (!rel.when.empty()) s += " when " + rel.when;
     if (rel.inferred) s += " (inferred)";
-    if (!rel.source.empty()) s += " [" + rel.source + "]";
+    s += where_suffix(manual, rel.source);
     if (!rel.note.empty()) s += ": " + rel.note;
     return s;
 }
 
-std::string at_least_one_text(const AtLeastOne& r) {
+std::string at_least_one_text(const std::string& manual, const AtLeastOne& r) {
     std::string s = "at least one of ";
     for (std::size_t i = 0; i < r.args.size(); ++i) s += (i ? ", " : "") + r.args[i];
     if (r.plane) s += " in G" + std::to_string(r.plane);
     if (r.inferred) s += " (inferred)";
-    if (!r.source.empty()) s += " [" + r.source + "]";
+    s += where_suffix(manual, r.source);
     return s;
 }
 
@@ -255,8 +289,10 @@ void card_facts(Card& card, const Catalog& catalog, const MacroSpec& spec) {
     if (card.md()) card.line("");
     std::vector<std::pair<std::string, std::string>> facts;
     if (!spec.family.empty()) facts.emplace_back("Family", spec.family);
-    if (!spec.manual.empty() || !spec.source.empty())
-        facts.emplace_back("Manual", spec.manual + (spec.source.empty() ? "" : ", " + spec.source));
+    if (!spec.manual.empty()) {
+        std::string w = where(spec.manual, spec.source);
+        facts.emplace_back("Manual", manual_title(spec.manual) + (w.empty() ? "" : ", " + w));
+    }
     if (!cycle) facts.emplace_back("Forms", join_forms(spec.forms));
     if (std::string r = codes_of(catalog, spec.name); !r.empty()) facts.emplace_back("Registered to", r);
     if (!spec.cancel.empty()) {
@@ -277,10 +313,14 @@ void card_format(Card& card, const MacroSpec& spec) {
     if (spec.formats.empty() && !spec.gcode_form) return;
     card.heading("Format");
     std::vector<std::string> lines;
-    for (const auto& f : spec.formats) lines.push_back(f.text + (f.source.empty() ? "" : "    (" + f.source + ")"));
-    if (spec.gcode_form && !gcode_printed)
-        lines.push_back(spec.gcode_form->text + "    (G-code macro form" +
-                        (spec.gcode_form->source.empty() ? "" : ", " + spec.gcode_form->source) + ")");
+    for (const auto& f : spec.formats) {
+        std::string w = where(spec.manual, f.source);
+        lines.push_back(f.text + (w.empty() ? "" : "    (" + w + ")"));
+    }
+    if (spec.gcode_form && !gcode_printed) {
+        std::string w = where(spec.manual, spec.gcode_form->source);
+        lines.push_back(spec.gcode_form->text + "    (G-code macro form" + (w.empty() ? "" : ", " + w) + ")");
+    }
     if (md) card.line("```text");
     for (const auto& l : lines) card.line(md ? l : "  " + l);
     if (md) card.line("```");
@@ -308,7 +348,10 @@ void card_arguments(Card& card, const MacroSpec& spec) {
             if (a.undocumented) name += " (undocumented)";
             std::string meaning = a.meaning;
             if (!a.note.empty()) meaning += " (" + a.note + ")";
-            if (!a.source.empty()) meaning += " [" + a.source + "]";
+            // The argument list itself goes unsaid; a note or a step elsewhere is named.
+            if (std::string w = where(spec.manual, a.source);
+                !w.empty() && w.find("Argument list\"") == std::string::npos)
+                meaning += " [" + w + "]";
             std::string values = constraint_text(a);
             if (values.empty()) values = "any";
             rows.push_back({name, omitted_text(a), values, axis_cell(a.axes[0]), axis_cell(a.axes[1]),
@@ -317,8 +360,8 @@ void card_arguments(Card& card, const MacroSpec& spec) {
         card.table({"Arg", "If omitted", "Values", "G17", "G18", "G19", "Format", "Meaning"}, rows, {0});
     }
     std::vector<std::string> conditions;
-    for (const auto& r : spec.at_least_one) conditions.push_back(at_least_one_text(r));
-    for (const auto& rel : spec.relations) conditions.push_back(relation_text(rel));
+    for (const auto& r : spec.at_least_one) conditions.push_back(at_least_one_text(spec.manual, r));
+    for (const auto& rel : spec.relations) conditions.push_back(relation_text(spec.manual, rel));
     if (!conditions.empty()) {
         card.heading("Conditions");
         card.bullets(conditions);
@@ -350,7 +393,7 @@ std::vector<std::pair<std::string, std::string>> modes_of(const MacroSpec& spec)
     return modes;
 }
 
-std::string with_source(const CatalogNote& n) { return n.text + (n.source.empty() ? "" : " [" + n.source + "]"); }
+std::string with_source(const std::string& manual, const CatalogNote& n) { return n.text + where_suffix(manual, n.source); }
 
 // The action sequence, the notes and the readings taken.
 void card_action_and_notes(Card& card, const MacroSpec& spec) {
@@ -363,15 +406,15 @@ void card_action_and_notes(Card& card, const MacroSpec& spec) {
     if (!spec.notes.empty()) {
         card.heading("Notes");
         std::vector<std::string> items;
-        for (const auto& n : spec.notes) items.push_back(with_source(n));
+        for (const auto& n : spec.notes) items.push_back(with_source(spec.manual, n));
         card.bullets(items);
     }
     if (!spec.readings.empty()) {
         card.heading("Readings");
         std::vector<std::string> items;
         for (const auto& rd : spec.readings) {
-            std::string text = rd.id + (rd.open ? " (open, configurable)" : "") + ": " + rd.issue +
-                               (rd.issue.empty() ? "" : " ") + "Reading: " + rd.reading;
+            std::string text = (rd.open ? "(open, configurable) " : "") + rd.issue + (rd.issue.empty() ? "" : " ") +
+                               "Reading: " + rd.reading;
             if (!rd.override_hint.empty()) text += " To take the other reading: " + rd.override_hint;
             items.push_back(text);
         }
@@ -383,12 +426,11 @@ void card_action_and_notes(Card& card, const MacroSpec& spec) {
 void card_common_rules(Card& card, const Catalog& catalog, const MacroSpec& spec) {
     const CommonRules* common = spec.common.empty() ? nullptr : catalog.common_rules(spec.common);
     if (!common) return;
-    card.heading((common->title.empty() ? common->id : common->title) +
-                 (common->source.empty() ? "" : " [" + common->source + "]"));
+    card.heading(common->title.empty() ? "Common rules" : common->title);
     std::vector<std::string> items;
-    for (const auto& n : common->notes) items.push_back(with_source(n));
+    for (const auto& n : common->notes) items.push_back(with_source(spec.manual, n));
     for (const auto& rd : common->readings)
-        items.push_back("Reading " + rd.id + ": " + rd.issue + (rd.issue.empty() ? "" : " ") + rd.reading);
+        items.push_back("Reading: " + rd.issue + (rd.issue.empty() ? "" : " ") + rd.reading);
     card.bullets(items);
 }
 
@@ -397,7 +439,7 @@ void card_plane_table(Card& card, const Catalog& catalog, const MacroSpec& spec)
     const bool md = card.md();
     const PlaneTable* pt = spec.plane_table.empty() ? nullptr : catalog.plane_table(spec.plane_table);
     if (!pt) return;
-    card.heading("Plane table " + pt->id + (pt->source.empty() ? "" : " [" + pt->source + "]"));
+    card.heading("Plane table" + where_suffix(spec.manual, pt->source));
     if (!pt->columns.empty()) {
         static const char* kRows[] = {"G17", "G18", "G19"};
         std::vector<std::string> head = {""};

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "catalog/catalog.h"
+#include "catalog/citations.h"
 #include "lsp/navigation.h"
 #include "rules/registry.h"
 #include "support/embedded.h"
@@ -356,7 +357,11 @@ std::string argument_doc(const MacroSpec& spec, const ArgSpec& a, int plane, con
     }
     if (a.undocumented) out += "- Referenced by the manual but not defined in its argument table\n";
     if (!a.note.empty()) out += "- Note: " + a.note + "\n";
-    if (!a.source.empty()) out += "- Source: " + a.source + "\n";
+    // Where the manual prints it: the section, never the line; a shop's own
+    // source as written.
+    std::string where = cite_source(a.source);
+    if (where.empty() && !find_manual(std::string_view(a.source).substr(0, a.source.find(':')))) where = a.source;
+    if (!where.empty()) out += "- Source: " + where + "\n";
     return out;
 }
 

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <map>
 #include <ostream>
+#include <set>
 #include <vector>
 
 #include <fmt/format.h>
@@ -72,13 +73,18 @@ class TextWriter final : public ReportWriter {
 public:
     TextWriter(std::ostream& out, bool color) : out_(out), color_(color) {}
     void begin_file(const std::string& path) override { path_ = path; }
-    void diagnostic(Diagnostic&& d) override { out_ << render_text_diagnostic(path_, d, color_) << "\n"; }
+    void diagnostic(Diagnostic&& d) override {
+        // The rule's page is pointed at once per run, with its first finding.
+        const bool hint = d.rule.rfind("OSP", 0) == 0 && explained_.insert(d.rule).second;
+        out_ << render_text_diagnostic(path_, d, color_, hint) << "\n";
+    }
     void finish(const Counts& counts) override { out_ << render_summary(counts); }
 
 private:
     std::ostream& out_;
     bool color_;
     std::string path_;
+    std::set<std::string> explained_;
 };
 
 // ------------------------------------------------------------------- gcc
@@ -406,7 +412,7 @@ private:
 
 }  // namespace
 
-std::string render_text_diagnostic(const std::string& path, const Diagnostic& d, bool color) {
+std::string render_text_diagnostic(const std::string& path, const Diagnostic& d, bool color, bool explain_hint) {
     const char* bold = color ? "\x1b[1m" : "";
     const char* reset = color ? "\x1b[0m" : "";
     const char* blue = color ? "\x1b[1;34m" : "";
@@ -431,6 +437,8 @@ std::string render_text_diagnostic(const std::string& path, const Diagnostic& d,
             out += fmt::format("{} {} ={} note: {}\n", blue, pad, reset, printable(n.message, true));
     }
     for (const auto& f : d.fixes) out += fmt::format("{} {} ={} fix: {}\n", blue, pad, reset, printable(f.title, true));
+    if (explain_hint)
+        out += fmt::format("{} {} ={} (run \"osplint explain {}\" for more)\n", blue, pad, reset, printable(d.rule, true));
     return out;
 }
 

@@ -54,8 +54,11 @@ public:
 std::unique_ptr<ReportWriter> make_writer(Format format, std::ostream& out, const WriterOptions& options = {});
 
 // One finding as the text report shows it: `path:line:col: severity[ID]:
-// message`, the source line with a caret under the range, notes and fixes.
-std::string render_text_diagnostic(const std::string& path, const Diagnostic& d, bool color);
+// message`, the source line with a caret under the range, notes and fixes;
+// with `explain_hint`, a last line pointing at `osplint explain ID` (the text
+// report gives it with the first finding of each rule only).
+std::string render_text_diagnostic(const std::string& path, const Diagnostic& d, bool color,
+                                   bool explain_hint = false);
 // The text report's last line: "2 errors, 1 warning, 0 infos in 3 files".
 std::string render_summary(const Counts& counts);
 

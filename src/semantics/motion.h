@@ -4,7 +4,7 @@
 // open MODIN, a one-shot G-code macro) or a hole of a fixed cycle (G81 ...,
 // and the G-code macro cycle OG84L/G114), the evaluator walks the manual's
 // action sequence (the catalog's `action` steps, or the fixed-cycle points
-// I -> R -> Z of seed 004) and records, per step, the cycle-axis position the
+// I -> R -> Z of the fixed cycles manual) and records, per step, the cycle-axis position the
 // step reaches. The envelope is the range [lowest, highest] of those points,
 // each end naming the step that produced it ("step 3c: PZ-PI-PL = -20-12-5 =
 // -37").

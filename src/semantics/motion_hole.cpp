@@ -1,5 +1,5 @@
 // The envelope of a hole of a fixed cycle (G81 ...) or of a G-code macro
-// cycle (OG84L via G114): the I point, R and Z in absolute terms (seed 004),
+// cycle (OG84L via G114): the I point, R and Z in absolute terms (fixed cycles manual),
 // the macro's own sequence when it has one, the return after the hole (M52 /
 // M53 / M54, else G98 / G99), and the hole position in the positioning plane.
 #include <fmt/format.h>
@@ -11,8 +11,8 @@ namespace osplint::motion_detail {
 
 namespace {
 
-// I point: where the hole starts (seed 004 L6; under G99 the previous
-// block's position, A-53).
+// I point: where the hole starts (fixed cycles manual, "Basic motion"; under
+// G99 the previous block's position).
 MotionPoint initial_point(const Envelope& env) {
     MotionPoint ip;
     ip.step = "I";

@@ -327,7 +327,7 @@ void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane
         spread.widen(*along, *s + *len);
         why = "start point to start+PI along " + std::string(1, *along);
     } else {
-        // The direction of PI outside G17 is not reliably documented: both ways.
+        // The direction of PI outside G17 is not reliably documented (the keyway and wall finishing manuals use different plane conventions): both ways.
         spread.widen(*along, *s - std::fabs(*len));
         spread.widen(*along, *s + std::fabs(*len));
         why = "PI either way along " + std::string(1, *along) + " (direction outside G17 not documented)";

@@ -135,10 +135,10 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
     s.feed = Val<double>{};
     const bool shop_subprogram = spec && spec->kind == SpecKind::Macro && spec->m52 == M52Mode::IgnoredUsePM52;
     if (shop_subprogram) {
-        // The shop's cycle macros work "like the equivalent fixed cycle" (seed 000
-        // L18-20) and leave the interpolation mode as it was: the manuals' warning
-        // about G60 with NCYL during them (000 L54-56) presupposes that G60 stays
-        // modal across their runs.
+        // The shop's cycle macros work "like the equivalent fixed cycle" (back
+        // counterboring manual, common rule (1)) and leave the interpolation mode
+        // as it was: the manuals' warning about G60 with NCYL during them (common
+        // rule (9)) presupposes that G60 stays modal across their runs.
         // Seeds 000-002: the macro starts the spindle itself and keeps a running one.
         if (!(before.spindle.is(3) || before.spindle.is(4))) s.spindle = Val<int>{};
         s.spindle_stopped_by = Val<uint32_t>::of(0);
@@ -208,7 +208,7 @@ void end_fixed_cycle(const Block& b, ModalState& s) {
         s.spindle = Val<int>{};
         s.spindle_stopped_by = Val<uint32_t>{};
     } else if (s.cycle.value && !s.cycle.value->macro.empty()) {
-        // Ending G114 (OG84L): "the spindle stops too!" (seed 003 L193).
+        // Ending G114 (OG84L): "the spindle stops too!" (tap cycle manual).
         s.spindle = Val<int>::of(5);
         s.spindle_stopped_by = Val<uint32_t>::of(b.line);
     }
@@ -396,7 +396,7 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
         s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
         s.overrides_disabled = Val<bool>::of(false);
-        s.spindle = Val<int>::of(5);  // "the spindle stops too" (seed 003 L193, A-45)
+        s.spindle = Val<int>::of(5);  // "the spindle stops too" (tap cycle manual; M204 as well)
         s.spindle_stopped_by = Val<uint32_t>::of(b.line);
         if (!s.return_level.is(0)) s.return_level = Val<int>{};
     }

@@ -80,7 +80,7 @@ expect_eq "github exit code" 1 "$rc"
 gh=$(cat "$work/gh.out")
 first=$(head -1 <<<"$gh")
 expect_eq "github: first command is the error, escaped" \
-  "::error file=a%2Cb%3Ac/P%251.MIN,line=3,col=30,endLine=3,endColumn=33,title=OSP104::M52 on the CALL line of OZAGR is not read by the macro: the tool does not return to the upper limit after the cycle; command PM=52 instead%0Anote: \"M52 commanded in the CALL block has no effect, because the sub cannot read M52 internally. In that case command PM=52.\" (seed 000 L26-30; seed 001 L35-37; seed 002 L44-46)%0Afix: Replace M52 by PM=52" \
+  "::error file=a%2Cb%3Ac/P%251.MIN,line=3,col=30,endLine=3,endColumn=33,title=OSP104::M52 on the CALL line of OZAGR is not read by the macro: the tool does not return to the upper limit after the cycle; command PM=52 instead%0Anote: \"M52 commanded in the CALL block has no effect, because the sub cannot read M52 internally. In that case command PM=52.\" (Back counterboring macros manual, \"Common rules (3)\")%0Afix: Replace M52 by PM=52" \
   "$first"
 expect_eq "github: order error, warning, notice" "error warning notice" \
   "$(sed -E 's/^::([a-z]+) .*/\1/' <<<"$gh" | tr '\n' ' ' | sed 's/ $//')"

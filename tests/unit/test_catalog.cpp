@@ -129,7 +129,7 @@ TEST_CASE("OG87C against its manual table (000:L138-188)") {
         CAPTURE(a);
         CHECK(arg_of(cat, "OG87C", a).required());
     }
-    CHECK_FALSE(arg_of(cat, "OG87C", "PI").required());  // A-07: default 0, at-least-one rule
+    CHECK_FALSE(arg_of(cat, "OG87C", "PI").required());  // reading og87c-pi-required: default 0, at-least-one rule
     CHECK(arg_of(cat, "OG87C", "PI").default_value == 0.0);
     CHECK(arg_of(cat, "OG87C", "PI").format_status(MacroForm::Modin) == ArgInFormat::Required);
     CHECK(arg_of(cat, "OG87C", "PG").allowed == std::vector<double>{2, 3});
@@ -155,8 +155,8 @@ TEST_CASE("OG87C against its manual table (000:L138-188)") {
     CHECK_FALSE(arg_of(cat, "OG87C", "PK").axis(17).has_value());
     CHECK(arg_of(cat, "OG87C", "PK").axis(18) == 'Z');
     CHECK_FALSE(arg_of(cat, "OG87C", "PI").axis(19).has_value());
-    CHECK(m.reading("A-07") != nullptr);
-    CHECK(m.reading("A-07")->open);
+    CHECK(m.reading("og87c-pi-required") != nullptr);
+    CHECK(m.reading("og87c-pi-required")->open);
 }
 
 TEST_CASE("back-counterbore macros: strokes, undocumented PP/PD, defaults") {
@@ -171,8 +171,8 @@ TEST_CASE("back-counterbore macros: strokes, undocumented PP/PD, defaults") {
     }
     CHECK(arg_of(cat, "OG87N", "PI").required());
     CHECK(arg_of(cat, "OG87N", "PJ").required());
-    CHECK(cat.find("OG87K")->arg("PI") == nullptr);  // A-14: figure label only
-    CHECK(arg_of(cat, "OG87K", "PFB").format_status(MacroForm::Modin) == ArgInFormat::Absent);  // A-13
+    CHECK(cat.find("OG87K")->arg("PI") == nullptr);  // reading og87k-figure-pi: figure label only
+    CHECK(arg_of(cat, "OG87K", "PFB").format_status(MacroForm::Modin) == ArgInFormat::Absent);  // reading og87k-pfb
 
     const ArgSpec& pd = arg_of(cat, "OZAGR", "PD");
     CHECK(pd.undocumented);
@@ -183,11 +183,11 @@ TEST_CASE("back-counterbore macros: strokes, undocumented PP/PD, defaults") {
     CHECK(arg_of(cat, "OM100", "PFA").default_text == "1000");
     CHECK(arg_of(cat, "OZAGR", "PFA").default_text == "PF*4");
     CHECK_FALSE(arg_of(cat, "OZAGR", "PFA").default_value.has_value());
-    // A-17: PT is not required by itself; M53 without PT is the alarm.
+    // reading pt-error-when-omitted: PT is not required by itself; M53 without PT is the alarm.
     CHECK(arg_of(cat, "OZAGR", "PT").omitted == ArgOmitted::None);
     CHECK(arg_of(cat, "OM100", "PT").omitted == ArgOmitted::None);
     CHECK(cat.find("OZAGR")->m53 == M53Mode::ReturnToPT);
-    CHECK(cat.find("OZAGR")->reading("A-17")->open);
+    CHECK(cat.find("OZAGR")->reading("pt-error-when-omitted")->open);
     for (const char* a : {"PR", "PZ", "PI"}) {
         CHECK(arg_of(cat, "OZAGR", a).required());
         CHECK(arg_of(cat, "OM100", a).required());
@@ -197,13 +197,13 @@ TEST_CASE("back-counterbore macros: strokes, undocumented PP/PD, defaults") {
 TEST_CASE("wall finishing: OLPEX table wins, predecessors keep PQ required") {
     Catalog cat = shipped();
     const ArgSpec& pk = arg_of(cat, "OLPEX", "PK");
-    CHECK(pk.required());  // A-24
+    CHECK(pk.required());  // reading olpex-pk-required
     CHECK(pk.format_status(MacroForm::Call) == ArgInFormat::Optional);
     CHECK(pk.sign == ArgSign::NonNegative);
     CHECK(arg_of(cat, "OLPEX", "PA").sign == ArgSign::NonNegative);
     CHECK_FALSE(arg_of(cat, "OLPEX", "PA").required());
     CHECK(arg_of(cat, "OLPEX", "PI").negative_allowed);
-    CHECK(cat.find("OLPEX")->arg("PT") == nullptr);  // A-23
+    CHECK(cat.find("OLPEX")->arg("PT") == nullptr);  // reading olpex-no-pt
     CHECK(cat.find("OLPEX")->m53 == M53Mode::Undocumented);
     // Travel axis and end-point vectors per macro (001:L61-87, L267-270).
     CHECK(arg_of(cat, "OLPEX", "PI").axis(18) == 'Z');
@@ -225,14 +225,14 @@ TEST_CASE("wall finishing: OLPEX table wins, predecessors keep PQ required") {
         REQUIRE(m.gcode_form.has_value());
         const ArgSpec* q = m.arg_for_address("Q");
         REQUIRE(q != nullptr);
-        CHECK(q->name == "PQ");  // in the G-code form Q is the pitch (A-28)
+        CHECK(q->name == "PQ");  // in the G-code form Q is the pitch (reading gcode-q-is-pq)
         CHECK(q->role == ArgRole::Pitch);
         CHECK(m.arg_for_address("FA")->name == "PFA");
         CHECK(m.q_repeat_unsafe);
     }
 }
 
-TEST_CASE("keyways: OKYLX follows its table, not the copied format line (A-34)") {
+TEST_CASE("keyways: OKYLX follows its table, not the copied format line (reading okylx-format-line)") {
     Catalog cat = shipped();
     for (const char* name : {"OKYLX", "OKYLY"}) {
         CAPTURE(name);
@@ -244,9 +244,9 @@ TEST_CASE("keyways: OKYLX follows its table, not the copied format line (A-34)")
         CHECK(m.arg("PP") == nullptr);
         CHECK(m.g91_forbidden);
         CHECK(m.forms == std::vector<MacroForm>{MacroForm::Call});
-        CHECK(m.reading("A-34") != nullptr);
+        CHECK(m.reading("okylx-format-line") != nullptr);
     }
-    // OKYOX: PX/PY required by the CALL format only; the table says none (A-33).
+    // OKYOX: PX/PY required by the CALL format only; the table says none (reading px-py-optional).
     const ArgSpec& px = arg_of(cat, "OKYOX", "PX");
     CHECK(px.omitted == ArgOmitted::None);
     CHECK(px.format_status(MacroForm::Call) == ArgInFormat::Required);
@@ -265,10 +265,10 @@ TEST_CASE("OG84L is a G-code macro on G114, cancelled by OC84L on M204") {
     CHECK(cat.find_by_code("g0114") == g114);
     CHECK(g114->arg("Z")->required());
     CHECK(g114->arg("R")->required());
-    CHECK(g114->arg("PZ") == g114->arg("Z"));  // A-40 alias
+    CHECK(g114->arg("PZ") == g114->arg("Z"));  // reading og84l-address-names alias
     CHECK(g114->arg("FA")->omitted == ArgOmitted::Default);
     CHECK(g114->arg("FA")->default_text == "PF (= F)");
-    CHECK(g114->arg("S")->format_status(MacroForm::GCode) == ArgInFormat::Absent);  // A-42
+    CHECK(g114->arg("S")->format_status(MacroForm::GCode) == ArgInFormat::Absent);  // reading og84l-s
     CHECK_FALSE(g114->cycle_args_absolute_g91);
     CHECK(g114->m52 == M52Mode::FixedCycle);
     CHECK(g114->m53 == M53Mode::FixedCycle);
@@ -304,9 +304,9 @@ TEST_CASE("plane mapping: cycle-axis arguments follow the plane's cycle axis") {
             std::string col = pt->columns[c];
             std::string argname = col.substr(0, col.find(' '));
             if (col.find(' ') != std::string::npos && col.substr(col.find(' ') + 1) != m.name) continue;
-            if (m.plane_table == "seed000" && (argname == "PI" || argname == "PJ" || argname == "PK") &&
+            if (m.plane_table == "back-counterboring" && (argname == "PI" || argname == "PJ" || argname == "PK") &&
                 m.name != "OG87C")
-                continue;  // 000:L76: PI/PJ/PK of the table apply to OG87C only
+                continue;  // note 2 of the table: its PI/PJ/PK apply to OG87C only
             const ArgSpec* a = m.arg(argname);
             if (!a) continue;
             for (int row = 0; row < 3; ++row) {
@@ -341,7 +341,7 @@ TEST_CASE("format lines agree with the per-argument format column") {
                 CAPTURE(name);
                 const ArgSpec* a = m.arg(name);
                 if (!a) {
-                    CHECK(m.reading("A-34") != nullptr);  // only OKYLX/OKYLY print foreign names
+                    CHECK(m.reading("okylx-format-line") != nullptr);  // only OKYLX/OKYLY print foreign names
                     continue;
                 }
                 CHECK(a->format_status(f.form) == status);
@@ -353,7 +353,7 @@ TEST_CASE("format lines agree with the per-argument format column") {
     }
 }
 
-TEST_CASE("fixed cycles of seed 004") {
+TEST_CASE("fixed cycles of the fixed cycles manual") {
     Catalog cat = shipped();
     for (int g : {77, 78, 79, 81, 82, 83, 84, 85, 86, 87, 88, 89, 186, 73, 74, 76}) {
         CAPTURE(g);
@@ -392,7 +392,7 @@ TEST_CASE("fixed cycles of seed 004") {
     CHECK(cat.find_cycle(84)->tapping);
     CHECK_FALSE(cat.find_cycle(81)->tapping);
     CHECK(cat.find_cycle(84)->formats.size() == 2);
-    // G88: both Q and K accepted as the Z shift (A-47), neither required.
+    // G88: both Q and K accepted as the Z shift (reading g88-q-or-k), neither required.
     CHECK(cat.find_cycle(88)->arg("Q") != nullptr);
     CHECK(cat.find_cycle(88)->arg("K") != nullptr);
     CHECK_FALSE(cat.find_cycle(88)->arg("K")->required());
@@ -610,9 +610,12 @@ TEST_CASE("render_card: terminal text and Markdown") {
     CHECK(text.find("default 5") != std::string::npos);               // PL
     CHECK(text.find("(undocumented)") != std::string::npos);          // PD
     CHECK(text.find("M53 without PT raises an alarm") != std::string::npos);
-    CHECK(text.find("A-17 (open, configurable)") != std::string::npos);
+    CHECK(text.find("(open, configurable) The table prints PT") != std::string::npos);
     CHECK(text.find("[macro.OZAGR.arg.PT]") != std::string::npos);
-    CHECK(text.find("000:L552-648") != std::string::npos);
+    CHECK(text.find("Back counterboring macros manual (OG87EX, 2001-07-30), \"OZAGR (BIG back-counterbore bar)\"") !=
+          std::string::npos);
+    CHECK(text.find("[\"OZAGR: Action sequence\"]") != std::string::npos);  // a step's source, by its section
+    CHECK(text.find("000:L") == std::string::npos);
     CHECK(text.find("**") == std::string::npos);
     std::istringstream lines(text);
     for (std::string l; std::getline(lines, l);) {
@@ -631,7 +634,7 @@ TEST_CASE("render_card: terminal text and Markdown") {
     CHECK(g114.find("Registered to:  G114") != std::string::npos);
     CHECK(g114.find("Cancel:         OC84L (M204)") != std::string::npos);
     std::string g78 = cat.render_card(*cat.find_cycle(78), false);
-    CHECK(g78.find("Q > K [004:L80]") != std::string::npos);
+    CHECK(g78.find("Q > K [\"G78 Variable pick cycle\"]") != std::string::npos);
     CHECK(g78.find("always incremental") != std::string::npos);
 }
 

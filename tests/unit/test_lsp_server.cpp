@@ -307,6 +307,9 @@ TEST_CASE("lsp: hover: macro card, argument with plane axis, G/M codes with moda
     CHECK(pr17.find("Axis: **Z** (plane G17") != std::string::npos);
     CHECK(pr17.find("If omitted: required") != std::string::npos);
     CHECK(pr17.find("Value here: `5`") != std::string::npos);
+    // Where the manual prints it: the section, not a line of the manual.
+    CHECK(pr17.find("Source: Back counterboring macros manual, \"OZAGR: Argument list\"") != std::string::npos);
+    CHECK(pr17.find("000:L") == std::string::npos);
     std::string pr18 = value(hover(4, 12));  // PR=5 in G18
     CHECK(pr18.find("Axis: **Y** (plane G18") != std::string::npos);
 

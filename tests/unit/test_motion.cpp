@@ -2,7 +2,7 @@
 // rule OSP302, the unbounded notes OSP303 and the picture of `osplint trace --svg`.
 //
 // Every expected envelope below is worked out by hand from the action sequence
-// of the manual (MACROS.md §2, §3; seeds 000-004); the comments cite the step.
+// of the manual (MACROS.md §2, §3); the comments cite the step.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -89,7 +89,7 @@ const std::string kHead = "O1000\nG15 H1\nG0 G90 X0 Y0\nG56 Z50. H3\n";  // line
 }  // namespace
 
 // ---------------------------------------------------------------------------
-// Macros (seed 000-002 action sequences through the catalog)
+// Macros (their action sequences through the catalog)
 
 TEST_CASE("OZAGR: down to PZ-PI-PL (step 3c), up to PR (step 2)") {
     auto t = trace_text(kHead + "CALL OZAGR PX=10. PY=0 PR=5. PZ=-20. PI=12.\nM30\n");
@@ -110,7 +110,7 @@ TEST_CASE("OZAGR: down to PZ-PI-PL (step 3c), up to PR (step 2)") {
     CHECK(point(e, "5")->value.value == doctest::Approx(-20));
     CHECK(point(e, "7")->value.value == doctest::Approx(-21));  // step 7: PZ-1 (1 mm escape, inferred)
     CHECK(point(e, "9")->value.value == doctest::Approx(-18));  // step 9: PZ+2 (3 mm retreat, inferred)
-    // step 3b advances by PD, which the manual never defines: not given, not guessed
+    // step 3b advances by PD, which the manual never defines: not given, not guessed
     CHECK(point(e, "3b") == nullptr);
     REQUIRE(!e.notes.empty());
     CHECK(e.notes.front().find("step 3b") != std::string::npos);
@@ -294,7 +294,7 @@ TEST_CASE("OLPEX / OLPEY: PR -> PZ, the travel PI in the plane") {
                         "CALL OLPEX PX=20. PY=0 PR=2. PZ=-100. PI=60. PQ=3. PK=.5\n"
                         "CALL OLPEY PX=100. PY=20. PR=2. PZ=-100. PI=-60. PQ=3. PK=.5\nM30\n");
     const Envelope& e = at_line(t, 5);
-    // step 1: PR = 2 (start of the cycle-axis motion); step 2: PZ = -100 (end), both inferred
+    // step 1: PR = 2 (start of the cycle-axis motion); step 2: PZ = -100 (end), both inferred (no action sequence is printed)
     CHECK(e.highest->value == doctest::Approx(2));
     CHECK(high_point(e).step == "1");
     CHECK(e.lowest->value == doctest::Approx(-100));
@@ -361,7 +361,7 @@ TEST_CASE("G114 (OG84L): I -> R -> Z+L, G91 from I and R") {
     const Envelope& l = at_line(t, 10);
     CHECK(l.lowest->value == doctest::Approx(-17.5));
     CHECK(low_point(l).describe().find("-21.5+4 = -17.5") != std::string::npos);
-    // G91: R from the I point 50-40 = 10, Z from R 10-31.5 = -21.5 (004:L12-13, A-55)
+    // G91: R from the I point 50-40 = 10, Z from R 10-31.5 = -21.5 (fixed cycles manual, "Cautions: programming in G91")
     const Envelope& g = at_line(t, 14);
     CHECK(g.incremental);
     CHECK(point(g, "2")->value.value == doctest::Approx(10));
@@ -385,7 +385,7 @@ TEST_CASE("every fixed cycle of the catalog runs I -> R -> Z") {
             CHECK(e.lowest->value == doctest::Approx(-20));           // Z point (004:L9)
             CHECK(low_point(e).step == "Z");
         }
-        // G99: the second hole starts at R (the previous block's Z is the I point, A-53)
+        // G99: the second hole starts at R (the previous block's Z is the I point)
         auto r = trace_text(kHead + "G99\n" + g + " X10. Y10. Z-20. R3. Q5. K2. F100\nX20. Y10.\nG80\nM30\n");
         CHECK(at_line(r, 6).highest->value == doctest::Approx(50));
         CHECK(at_line(r, 7).highest->value == doctest::Approx(3));

@@ -136,6 +136,37 @@ TEST_CASE("gcc format: path:line:col: severity: message [ID], one line each") {
     CHECK(lines == real[0].diagnostics.size());
 }
 
+TEST_CASE("text format: the first finding of each rule in a run points at its explain page") {
+    FileResult a;
+    a.path = "A.MIN";
+    Diagnostic d;
+    d.rule = "OSP104";
+    d.message = "M52 on the CALL line";
+    d.range.start = {3, 5, 5, 5};
+    d.range.end = {3, 8, 8, 8};
+    a.diagnostics.push_back(d);
+    a.diagnostics.push_back(d);
+    d.rule = "OSP003";
+    d.severity = Severity::Warning;
+    a.diagnostics.push_back(d);
+    FileResult b = a;  // a second file: its findings of the same rules get no hint
+    b.path = "B.MIN";
+    std::string out = render_report({a, b}, Format::Text);
+    auto count = [&](const std::string& s) {
+        size_t n = 0;
+        for (size_t at = out.find(s); at != std::string::npos; at = out.find(s, at + 1)) ++n;
+        return n;
+    };
+    CHECK(count("(run \"osplint explain OSP104\" for more)") == 1);
+    CHECK(count("(run \"osplint explain OSP003\" for more)") == 1);
+    // The hint ends the block of the first finding, before the next finding.
+    size_t hint = out.find("(run \"osplint explain OSP104\" for more)");
+    size_t second = out.find("A.MIN:3:6", out.find("A.MIN:3:6") + 1);
+    CHECK(hint < second);
+    // The other formats carry no hint.
+    CHECK(render_report({a, b}, Format::Gcc).find("osplint explain") == std::string::npos);
+}
+
 TEST_CASE("SARIF: required structure, rules, ruleIndex, levels, columns, locations") {
     auto results = check("/proj/parts/P.MIN", kProgram);
     FileResult missing;
