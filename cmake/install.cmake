@@ -54,3 +54,5 @@ foreach(shell bash zsh)
     install(FILES ${completions} DESTINATION ${CMAKE_INSTALL_DATADIR}/zsh/vendor-completions)
   endif()
 endforeach()
+
+include(${PROJECT_SOURCE_DIR}/cmake/package.cmake)
