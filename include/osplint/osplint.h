@@ -1,9 +1,10 @@
 // osplint as a library: check a program (a buffer or a file), get its findings.
 //
 // Self-contained: this header and osplint/diagnostic.h include nothing but
-// the standard library. Link `osplint::osplint` (CMake: find_package(osplint)),
-// `pkg-config --libs osplint`, or -losplint. C and other languages:
-// osplint/osplint_c.h.
+// the standard library; they need C++20 (the CMake targets ask for it; with
+// pkg-config, compile with -std=c++20). Link `osplint::osplint` (CMake:
+// find_package(osplint)), `pkg-config --libs osplint`, or -losplint. C and
+// other languages: osplint/osplint_c.h.
 //
 //     #include <osplint/osplint.h>
 //
