@@ -8,7 +8,8 @@
 #
 # In a sanitizer build (OSPLINT_SANITIZE=ON) the library carries the
 # sanitizers' runtime references: the consumers are built with the same
-# -fsanitize flags, and Python runs with the AddressSanitizer runtime preloaded.
+# -fsanitize flags (and checked for leaks when ASAN_OPTIONS asks), and Python
+# runs with the AddressSanitizer runtime preloaded.
 set -euo pipefail
 osplint=${1:?usage: install_consumers.sh path/to/build/osplint}
 build=$(cd "$(dirname "$osplint")" && pwd)
@@ -25,7 +26,6 @@ not_ok() {
 sanitize=""
 if grep -q '^OSPLINT_SANITIZE:BOOL=ON' "$build/CMakeCache.txt"; then
   sanitize="-fsanitize=address,undefined"
-  export ASAN_OPTIONS=detect_leaks=0
 fi
 
 prefix=$tmp/prefix
@@ -127,7 +127,9 @@ fi
 # Python through ctypes.
 if [[ -n $sanitize ]]; then
   preload="$(cc -print-file-name=libasan.so)"
-  check_consumer "Python (ctypes)" env LD_PRELOAD="$preload" OSPLINT_LIBRARY="$libdir/libosplint.so" \
+  # The interpreter keeps memory to its exit: the leak check is for the C and C++ consumers.
+  check_consumer "Python (ctypes)" env LD_PRELOAD="$preload" ASAN_OPTIONS=detect_leaks=0 \
+    OSPLINT_LIBRARY="$libdir/libosplint.so" \
     python3 "$src/examples/consumers/python/check_programs.py"
 else
   check_consumer "Python (ctypes)" env OSPLINT_LIBRARY="$libdir/libosplint.so" \
