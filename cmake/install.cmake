@@ -5,7 +5,8 @@
 #   <libdir>/libosplint.so.* and libosplint.a
 #   <libdir>/cmake/osplint/   find_package(osplint): osplint::osplint, osplint::osplint_static
 #   <libdir>/pkgconfig/osplint.pc
-#   share/doc/osplint/        README, LICENSE, the documentation and the rule pages
+#   share/doc/osplint/        README, LICENSE, the documentation, the rule pages, the examples
+#   share/man/man1/, bash and zsh completions: docs/man/*.1, completions/{bash,zsh}/* when the tree has them
 # Included from CMakeLists.txt when OSPLINT_INSTALL is on.
 include(CMakePackageConfigHelpers)
 
