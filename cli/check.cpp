@@ -52,6 +52,10 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
                    "Show at most N findings per file; the others are counted (default: no limit)");
     cmd.add_flag("--engine-stats", o.engine_stats,
                  "Print what the analysis did for each file (lines, loops, sweeps, ...) on stderr");
+    cmd.add_flag("--statistics", o.statistics,
+                 "Print how many findings each rule made (text) instead of the findings; no folding, no limit");
+    cmd.add_option("--output-file,-o", o.output_file, "Write the report to this file instead of standard output");
+    cmd.add_flag("-q,--quiet", o.quiet, "Print the findings only: no summary line, no notes on standard error");
     cmd.add_option("--fold", o.fold,
                    "Show at most N findings of one kind (rule and message) per file, and the others as a count "
                    "(default 10; 0 shows every one)");
@@ -163,6 +167,26 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
     return error;
 }
 
+// --statistics: how many findings each rule made, in place of the findings.
+class RuleStatistics final : public DiagnosticSink {
+public:
+    void diagnostic(Diagnostic&& d) override {
+        auto& [name, count] = rules_[d.rule];
+        name = d.name;
+        count += 1 + d.folded;
+    }
+    // Most findings first, then by rule ID.
+    void write(std::ostream& out) const {
+        std::vector<std::pair<std::string, std::pair<std::string, uint64_t>>> rows(rules_.begin(), rules_.end());
+        std::stable_sort(rows.begin(), rows.end(),
+                         [](const auto& a, const auto& b) { return a.second.second > b.second.second; });
+        for (const auto& [rule, entry] : rows) out << fmt::format("{:>7}  {}  {}\n", entry.second, rule, entry.first);
+    }
+
+private:
+    std::map<std::string, std::pair<std::string, uint64_t>> rules_;
+};
+
 // Notes the files that could not be read, for the message at the end.
 class Unreadable final : public DiagnosticSink {
 public:
@@ -185,6 +209,13 @@ private:
 
 int run_check(const CheckOptions& o) {
     validate_selection(o);
+    if (o.statistics && o.format != "text") throw std::runtime_error("--statistics prints text: it takes no --format");
+    std::ofstream output_file;
+    if (!o.output_file.empty()) {
+        output_file.open(o.output_file, std::ios::binary | std::ios::trunc);
+        if (!output_file) throw std::runtime_error("cannot write the report to " + o.output_file);
+    }
+    std::ostream& report = o.output_file.empty() ? std::cout : output_file;
     std::vector<std::string> errors;
     std::vector<std::string> files = expand_paths(o.paths, errors);
     const std::string stdin_name = o.stdin_filename.empty() ? std::string("<stdin>") : o.stdin_filename;
@@ -284,22 +315,27 @@ int run_check(const CheckOptions& o) {
     WriterOptions wo;
     wo.color = use_color(format == Format::Github ? STDERR_FILENO : STDOUT_FILENO);
     wo.sarif_root = fs::current_path();
-    std::unique_ptr<ReportWriter> writer = make_writer(format, std::cout, wo);
+    if (!o.output_file.empty()) wo.color = false;
+    std::unique_ptr<ReportWriter> writer = make_writer(format, report, wo);
     std::unique_ptr<ReportWriter> log;  // GitHub: the annotations are for the pull request, the log gets the text
     std::unique_ptr<TeeSink> tee;
     DiagnosticSink* tail = writer.get();
-    if (format == Format::Github) {
+    RuleStatistics statistics;
+    if (o.statistics) {
+        tail = &statistics;
+    } else if (format == Format::Github) {
         log = make_writer(Format::Text, std::cerr, wo);
         tee = std::make_unique<TeeSink>(*writer, *log);
         tail = tee.get();
     }
     Counts counts;
-    LimitSink limit(*tail, o.max_findings, counts);
+    const uint64_t fold_after = o.statistics ? 0 : o.fold;  // --statistics counts every finding
+    LimitSink limit(*tail, o.statistics ? 0 : o.max_findings, counts);
     // Folding: in the engine, which then need not build the findings it only
     // counts; after the baseline when there is one (it must see every finding).
     const bool baseline = !o.write_baseline.empty() || !o.baseline.empty();
-    options.fold = baseline ? 0 : o.fold;
-    FoldingSink fold(limit, baseline ? o.fold : 0, counts);
+    options.fold = baseline ? 0 : fold_after;
+    FoldingSink fold(limit, baseline ? fold_after : 0, counts);
     CountingSink count(fold, counts);
     Unreadable unreadable(count);
     DiagnosticSink* head = &unreadable;
@@ -314,14 +350,20 @@ int run_check(const CheckOptions& o) {
         head = &*filter;
     }
     OrderedOutput ordered(*head, files.size());
-    const bool progress = files.size() > 20 && isatty(STDERR_FILENO) && !isatty(STDOUT_FILENO);
+    const bool progress = !o.quiet && files.size() > 20 && isatty(STDERR_FILENO) &&
+                          (!o.output_file.empty() || !isatty(STDOUT_FILENO));
     const std::string pool_error =
         check_files(files, configs, stdin_name, stdin_fd, options, o.jobs, ordered, progress, o.engine_stats);
     if (stdin_fd >= 0) ::close(stdin_fd);
-    writer->finish(counts);
-    if (log) log->finish(counts);
-    std::cout.flush();
-    if (!pool_error.empty()) std::cerr << "osplint: note: " << pool_error << "; fewer files were checked at once\n";
+    if (o.statistics) statistics.write(report);
+    // --quiet: the text formats' summary line is left out; JSON and SARIF
+    // end their document.
+    const bool summary_only = format == Format::Text || format == Format::Github;
+    if (!(o.quiet && summary_only)) writer->finish(counts);
+    if (log && !o.quiet) log->finish(counts);
+    report.flush();
+    if (!o.output_file.empty() && !output_file) errors.push_back("the report could not be written to " + o.output_file);
+    if (!pool_error.empty() && !o.quiet) std::cerr << "osplint: note: " << pool_error << "; fewer files were checked at once\n";
     for (const auto& e : ordered.errors()) errors.push_back("output lost: " + e);
     for (const auto& e : unreadable.errors) errors.push_back(e);
     const bool io_failed = !errors.empty();
@@ -336,8 +378,9 @@ int run_check(const CheckOptions& o) {
                 return std::tie(x.path, x.rule, x.fingerprint) < std::tie(y.path, y.rule, y.fingerprint);
             });
             write_baseline(recorded, o.write_baseline);
-            std::cerr << "osplint: recorded " << recorded.entries.size() << " finding"
-                      << (recorded.entries.size() == 1 ? "" : "s") << " in " << o.write_baseline << "\n";
+            if (!o.quiet)
+                std::cerr << "osplint: recorded " << recorded.entries.size() << " finding"
+                          << (recorded.entries.size() == 1 ? "" : "s") << " in " << o.write_baseline << "\n";
         }
     }
     for (const auto& e : errors) std::cerr << "osplint: " << e << "\n";

@@ -24,6 +24,9 @@ struct CheckOptions {
     uint64_t max_findings = 0;   // --max-findings: per file; 0 = no limit
     uint64_t fold = 10;          // --fold: findings of one kind shown per file before the others fold; 0 = off
     bool engine_stats = false;   // --engine-stats: what the engine did, per file, on stderr
+    bool statistics = false;     // --statistics: the number of findings of each rule instead of the findings
+    std::string output_file;     // --output-file: the report goes there instead of standard output
+    bool quiet = false;          // --quiet: the findings only (no summary, no notes)
 };
 void add_check_options(CLI::App& cmd, CheckOptions& o);
 int run_check(const CheckOptions& o);

@@ -1,19 +1,28 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages osplint needs to build and test, if any is missing.
+# Installs the Debian 12 packages osplint needs, if any is missing:
+#   scripts/deps.sh          what building the osplint command and its libraries needs
+#   scripts/deps.sh --test   that, and what the test suite needs (scripts/test)
+# Further arguments are more packages to install.
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config libtree-sitter-dev libfmt-dev nlohmann-json3-dev
-          libcli11-dev libtomlplusplus-dev doctest-dev
-          neovim  # the language server's end-to-end test (tests/scripts/lsp_neovim.sh)
-          emacs-nox elpa-eglot  # ... with Emacs and Eglot (tests/scripts/lsp_emacs.sh)
-          clang libclang-rt-14-dev  # the differential fuzzer (tests/scripts/fuzz_short.sh)
-          time  # peak RSS in bench/run.sh
-          "$@")
-# npm and node for the SARIF validation test (tests/sarif/validate.sh installs
-# Microsoft's SARIF multitool from the npm registry), unless a node
-# installation already provides them.
-if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then
-  packages+=(nodejs npm)
+          libcli11-dev libtomlplusplus-dev)
+if [[ ${1:-} == --test ]]; then
+  shift
+  packages+=(doctest-dev  # the unit tests
+             neovim  # the language server's end-to-end test (tests/scripts/lsp_neovim.sh)
+             emacs-nox elpa-eglot  # ... with Emacs and Eglot (tests/scripts/lsp_emacs.sh)
+             clang libclang-rt-14-dev  # the differential fuzzer (tests/scripts/fuzz_short.sh)
+             time  # peak RSS in bench/run.sh
+             python3  # the Python example consumer (tests/scripts/install_consumers.sh)
+  )
+  # npm and node for the SARIF validation test (tests/sarif/validate.sh installs
+  # Microsoft's SARIF multitool from the npm registry), unless a node
+  # installation already provides them.
+  if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then
+    packages+=(nodejs npm)
+  fi
 fi
+packages+=("$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -12,6 +12,16 @@
 #include <string_view>
 #include <vector>
 
+// OSPLINT_API marks what the shared library (libosplint.so) exports; the rest
+// of the library is built with hidden visibility.
+#ifndef OSPLINT_API
+#if defined(__GNUC__) || defined(__clang__)
+#define OSPLINT_API __attribute__((visibility("default")))
+#else
+#define OSPLINT_API
+#endif
+#endif
+
 namespace osplint {
 
 // Half-open byte range [begin, end) into a file's text.
@@ -37,8 +47,8 @@ struct Position {
 
 enum class Severity { Info = 0, Warning = 1, Error = 2 };
 
-std::string_view severity_name(Severity s);                 // "info", "warning", "error"
-std::optional<Severity> parse_severity(std::string_view s);  // inverse of severity_name
+OSPLINT_API std::string_view severity_name(Severity s);                 // "info", "warning", "error"
+OSPLINT_API std::optional<Severity> parse_severity(std::string_view s);  // inverse of severity_name
 
 // A resolved source range: byte offsets plus display positions of both ends.
 struct SourceRange {
@@ -89,7 +99,7 @@ struct Diagnostic {
 };
 
 // Order of findings inside one file: position, then rule, then message.
-bool diagnostic_less(const Diagnostic& a, const Diagnostic& b);
+OSPLINT_API bool diagnostic_less(const Diagnostic& a, const Diagnostic& b);
 
 // A finding that is not reported because a directive or a baseline covers it.
 struct SuppressedDiagnostic {
@@ -121,7 +131,7 @@ struct FileResult {
 // by block in program order; findings about a whole program after its last
 // block; findings about the file's suppression directives at its end), then
 // end_file.
-class DiagnosticSink {
+class OSPLINT_API DiagnosticSink {
 public:
     virtual ~DiagnosticSink() = default;
     // Whether the findings must carry fingerprints (they cost memory and time).

@@ -9,7 +9,9 @@
 #   semantics   src/semantics
 #   engine      src/engine
 #   rules       rules/
-#   api         src/api, include/osplint/osplint.h
+#   api         src/api, include/osplint/osplint.h, include/osplint/osplint_c.h
+# The public headers (include/osplint/) include nothing but each other and
+# the standard library: they are installed alone.
 #   output      src/output
 #   lsp         src/lsp
 #   cli         cli/
@@ -26,7 +28,7 @@ rank_of() {  # rank_of PATH -> the layer's rank; syntax and catalog share one
     src/semantics/*) echo 3 ;;
     src/engine/*) echo 4 ;;
     rules/*) echo 5 ;;
-    src/api/* | include/osplint/osplint.h) echo 6 ;;
+    src/api/* | include/osplint/osplint.h | include/osplint/osplint_c.h) echo 6 ;;
     src/output/*) echo 7 ;;
     src/lsp/*) echo 8 ;;
     cli/*) echo 9 ;;
@@ -59,6 +61,11 @@ while IFS= read -r file; do
       failures=$((failures + 1))
       continue
     fi
+    if [[ $file == include/osplint/* && $target != include/osplint/* ]]; then
+      echo "not ok: public header $file includes $target, which is not installed"
+      failures=$((failures + 1))
+      continue
+    fi
     to=$(rank_of "$target")
     [[ -n $to ]] || continue
     checked=$((checked + 1))
@@ -72,6 +79,13 @@ while IFS= read -r file; do
     fi
   done < <(grep -oE '^#include "[^"]+"' "$file" | sed -E 's/#include "(.*)"/\1/')
 done < <(find src rules cli include/osplint -type f \( -name '*.h' -o -name '*.cpp' \) | sort)
+
+# Angle-bracket includes of the public headers: the standard library only
+# (no path: <fmt/format.h>, <toml++/toml.hpp> would not be there).
+while IFS=: read -r file inc; do
+  echo "not ok: public header $file includes ${inc#\#include }, which is not the standard library"
+  failures=$((failures + 1))
+done < <(grep -HoE '^#include <[^>]*/[^>]*>' include/osplint/*.h)
 
 if ((failures)); then
   echo "FAIL: $failures include(s) cross the layers"
