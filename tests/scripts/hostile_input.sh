@@ -26,13 +26,22 @@ w("UTF8BAD.MIN", b"O1000\n(\xff\xfe\xc3\x28 \xe2\x82) G0 X1\n\xc0\xaf G1 Y2\nM30
 w("LONGLINE.MIN", b"O1000\n" + b"G1 X1 Y2 Z3 " * 100000 + b"\nM30\n")
 w("CRONLY.MIN", b"O1000\rG0 X1\r\r\rM30")
 w("MANYLINES.MIN", b"\n" * 300000)
+# Tree-sitter fails on some 65,000 nested brackets, and its error recovery
+# grows with the square of the tokens it skips.
+w("DEEP.MIN", b"O1000\nVC1=" + b"[" * 70000 + b"\nM30\n")
+w("DEEPIF.MIN", b"O1000\nIF " + b"[" * 70000 + b"\nM30\n")
+w("SIGNS.MIN", b"O1000\nVC1=" + b"-" * 70000 + b"\nM30\n")
+w("RUNBRACKET.MIN", b"O1000\nVC1=1" + b"]" * 64000 + b"\nM30\n")
+w("RUNCOMMA.MIN", b"O1000\nVC1=1" + b"," * 64000 + b"\nM30\n")
+w("RUNEQUALS.MIN", b"O1000\nVC1=1" + b"=" * 64000 + b"\nM30\n")
+w("MANYRUNS.MIN", b"O1000\n" + (b"VC1=1" + b"]" * 2000 + b"\n") * 2000 + b"M30\n")
 PY
 mkdir "$dir/ADIR.MIN"
 ln -s "$dir/does-not-exist.MIN" "$dir/DANGLING.MIN"
 
-run() {  # run ARGS... ; checks exit code and stderr
+run() {  # run ARGS... ; checks exit code and stderr (time limit: $LIMIT seconds)
   local out err code
-  out=$(timeout 120 "$osplint" "$@" 2>"$dir/stderr" >/dev/null; echo $?)
+  out=$(timeout "${LIMIT:-120}" "$osplint" "$@" 2>"$dir/stderr" >/dev/null; echo $?)
   code=$out
   err=$(cat "$dir/stderr")
   if [[ $code -gt 2 ]]; then
@@ -59,6 +68,75 @@ run check "$dir/MISSING.MIN"
 run check "$dir"   # the directory itself: recursive, the bad entries are reported, nothing crashes
 run check - < "$dir/BINARY.MIN"
 run trace "$dir/NEST.MIN"
+
+# Lines tree-sitter cannot take whole: each is one finding, found within seconds.
+for f in DEEP DEEPIF SIGNS RUNBRACKET RUNCOMMA RUNEQUALS MANYRUNS; do
+  LIMIT=30 run check --format json "$dir/$f.MIN"
+  LIMIT=30 run trace "$dir/$f.MIN"
+  timeout 30 "$osplint" check --format json "$dir/$f.MIN" > "$dir/out.json" 2>/dev/null
+  grep -q '"OSP001"' "$dir/out.json" || { echo "FAIL: $f.MIN gives no OSP001"; fail=1; }
+done
+grep -q 'expression nested too deeply' <(timeout 30 "$osplint" check "$dir/DEEP.MIN" 2>&1) ||
+  { echo "FAIL: 70,000 open brackets are not reported as nested too deeply"; fail=1; }
+grep -q 'not read further' <(timeout 30 "$osplint" check "$dir/RUNBRACKET.MIN" 2>&1) ||
+  { echo "FAIL: a long run after an error does not say the line was not read further"; fail=1; }
+
+# The language server: such a document gets its diagnostics, so does another
+# one opened beside it, and the server shuts down cleanly.
+cat > "$dir/lsp_case.py" <<'PY'
+import json, subprocess, sys, time, os, select
+osplint, path = sys.argv[1], sys.argv[2]
+text = open(path, "rb").read().decode("utf-8", "replace")
+p = subprocess.Popen([osplint, "lsp"], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+def send(msg):
+    body = json.dumps(msg).encode()
+    p.stdin.write(b"Content-Length: %d\r\n\r\n" % len(body) + body)
+    p.stdin.flush()
+buf = b""
+def read_msg(deadline):
+    global buf
+    while True:
+        if b"\r\n\r\n" in buf:
+            head, rest = buf.split(b"\r\n\r\n", 1)
+            n = int([l for l in head.split(b"\r\n") if l.lower().startswith(b"content-length")][0].split(b":")[1])
+            if len(rest) >= n:
+                buf = rest[n:]
+                return json.loads(rest[:n])
+        left = deadline - time.time()
+        if left <= 0: return None
+        r, _, _ = select.select([p.stdout], [], [], left)
+        if not r: return None
+        chunk = os.read(p.stdout.fileno(), 65536)
+        if not chunk: return None
+        buf += chunk
+deadline = time.time() + 30
+send({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}})
+send({"jsonrpc": "2.0", "method": "initialized", "params": {}})
+uri = "file:///tmp/HOSTILE.MIN"
+send({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {"uri": uri, "languageId": "osp", "version": 1, "text": text}}})
+send({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {"uri": "file:///tmp/OTHER.MIN", "languageId": "osp", "version": 1, "text": "O1000\nG0 X1\nVC1=1]\nM30\n"}}})
+got = set()
+while len(got) < 2:
+    m = read_msg(deadline)
+    if m is None: print("no diagnostics for", {uri, "file:///tmp/OTHER.MIN"} - got); sys.exit(1)
+    if m.get("method") == "textDocument/publishDiagnostics" and m["params"]["diagnostics"]:
+        got.add(m["params"]["uri"])
+send({"jsonrpc": "2.0", "id": 2, "method": "shutdown"})
+while True:
+    m = read_msg(deadline)
+    if m is None: print("no answer to shutdown"); sys.exit(1)
+    if m.get("id") == 2: break
+send({"jsonrpc": "2.0", "method": "exit"})
+try:
+    code = p.wait(timeout=max(1, deadline - time.time()))
+except subprocess.TimeoutExpired:
+    p.kill(); print("the server did not exit"); sys.exit(1)
+if code != 0: print("the server exited with", code); sys.exit(1)
+PY
+for f in DEEP DEEPIF SIGNS RUNBRACKET; do
+  if timeout 60 python3 "$dir/lsp_case.py" "$osplint" "$dir/$f.MIN"; then echo "ok: osplint lsp with $f.MIN"
+  else echo "FAIL: osplint lsp with $f.MIN"; fail=1; fi
+done
 
 # The deep-nesting cases must be reported, not passed over.
 "$osplint" check --format json "$dir/NESTOPEN.MIN" > "$dir/out.json" 2>/dev/null
