@@ -28,6 +28,7 @@
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"
+#include "support/threads.h"
 
 namespace fs = std::filesystem;
 
@@ -139,28 +140,17 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
         worker();
         return {};
     }
-    std::string error;
-    std::vector<std::thread> pool;
-    for (unsigned k = 0; k < n; ++k) {
-        try {
-            pool.emplace_back(worker);
-        } catch (const std::system_error& e) {
-            error = std::string("could not start more than ") + std::to_string(k) + " worker thread" +
-                    (k == 1 ? "" : "s") + " (" + e.what() + ")";
-            break;
-        }
-    }
-    if (pool.empty()) worker();  // this thread does the work
-    if (progress) {
+    // This thread shows the progress, or is one of the workers.
+    auto show_progress = [&] {
         std::unique_lock<std::mutex> lock(mu);
         while (done.load() < files.size()) {
             cv.wait_for(lock, std::chrono::milliseconds(100));
             std::cerr << "\rosplint: checked " << done.load() << "/" << files.size() << " files" << std::flush;
         }
         std::cerr << "\r\x1b[K" << std::flush;
-    }
-    for (auto& t : pool) t.join();
-    return error;
+    };
+    if (progress) return run_on_threads(n, worker, show_progress);
+    return run_on_threads(n - 1, worker, worker);
 }
 
 // Notes the files that could not be read, for the message at the end.
@@ -255,19 +245,18 @@ int run_check(const CheckOptions& o) {
     {
         const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
         const size_t n = std::min<size_t>(o.jobs ? o.jobs : cores, to_scan.size());
-        std::vector<ProgramNames> found(n);
         std::atomic<size_t> next{0};
-        auto scan = [&](size_t k) {
-            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) add_program_names(fs::path(to_scan[i]), found[k]);
+        std::mutex mu;
+        auto scan = [&] {
+            ProgramNames found;
+            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) add_program_names(fs::path(to_scan[i]), found);
+            std::lock_guard<std::mutex> lock(mu);
+            names.merge(found);
         };
-        if (n <= 1) {
-            if (n == 1) scan(0);
-        } else {
-            std::vector<std::thread> pool;
-            for (size_t k = 0; k < n; ++k) pool.emplace_back(scan, k);
-            for (auto& t : pool) t.join();
+        if (n >= 1) {
+            const std::string error = run_on_threads(static_cast<unsigned>(n - 1), scan, scan);
+            if (!error.empty()) std::cerr << "osplint: note: " << error << "; fewer files were read at once\n";
         }
-        for (auto& f : found) names.merge(f);
     }
 
     AnalysisOptions options;

@@ -142,5 +142,18 @@ done
 "$osplint" check --format json "$dir/NESTOPEN.MIN" > "$dir/out.json" 2>/dev/null
 grep -q '"OSP001"' "$dir/out.json" || { echo "FAIL: unclosed brackets give no OSP001"; fail=1; }
 
+# Worker threads that cannot be started (-j 1000 under a memory limit): the
+# files are checked by those that started.
+mkdir "$dir/many"
+for i in $(seq 1 40); do printf 'O%d\nG0 X1\nM30\n' "$i" > "$dir/many/P$i.MIN"; done
+if (ulimit -v 400000 && "$osplint" --version) >/dev/null 2>&1; then
+  out=$( (ulimit -v 400000 && timeout 60 "$osplint" check -j 1000 "$dir/many") 2>"$dir/stderr")
+  code=$?
+  if [[ $code -eq 0 && $out == *"in 40 files"* ]]; then echo "ok: check -j 1000 under a memory limit -> exit $code"
+  else echo "FAIL: check -j 1000 under a memory limit exited with $code"; head -5 "$dir/stderr"; fail=1; fi
+else
+  echo "note: this build cannot run under a memory limit (a sanitizer); the unit tests cover the threads"
+fi
+
 if [[ $fail -ne 0 ]]; then echo "hostile input: FAILED"; exit 1; fi
 echo "hostile input: all cases ended cleanly"
