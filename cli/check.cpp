@@ -126,6 +126,8 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
                     std::lock_guard<std::mutex> lock(mu);
                     std::cerr << "osplint: " << path << ": " << describe(stats) << "\n";
                 }
+            } catch (const std::bad_alloc&) {
+                sink.end_file(path, "out of memory while checking this file");
             } catch (const std::exception& e) {
                 sink.end_file(path, std::string("internal error while checking this file (please report it): ") +
                                         e.what());

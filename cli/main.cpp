@@ -174,6 +174,9 @@ int main(int argc, char** argv) {
     } catch (const ConfigError& e) {
         std::cerr << "osplint: configuration error: " << e.what() << "\n";
         return 2;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "osplint: out of memory\n";
+        return 2;
     } catch (const std::exception& e) {
         std::cerr << "osplint: " << e.what() << "\n";
         return 2;
