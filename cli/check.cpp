@@ -106,7 +106,8 @@ std::string describe(const EngineStats& s) {
 // grow with the findings. Returns an error when the workers could not all be
 // started (the files are then checked by those that were).
 std::string check_files(const std::vector<std::string>& files, const std::vector<std::shared_ptr<Config>>& configs,
-                        const std::string& stdin_name, int stdin_fd, const AnalysisOptions& options, unsigned jobs,
+                        const std::string& stdin_name, int stdin_fd, const std::string& stdin_error,
+                        const AnalysisOptions& options, unsigned jobs,
                         OrderedOutput& out, bool progress, bool report_stats) {
     std::atomic<size_t> next{0};
     std::atomic<size_t> done{0};
@@ -120,7 +121,12 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
                 AnalysisOptions mine = options;
                 EngineStats stats;
                 if (report_stats) mine.stats = &stats;
-                if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
+                if (files[i] == "-" && stdin_fd < 0) {
+                    sink.begin_file(path);
+                    sink.end_file(path, stdin_error);
+                } else if (files[i] == "-") {
+                    check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
+                }
                 else check_path(files[i], *configs[i], mine, sink);
                 if (report_stats) {
                     std::lock_guard<std::mutex> lock(mu);
@@ -213,6 +219,7 @@ int run_check(const CheckOptions& o) {
     // Program names defined by the checked files and by the subprogram files
     // (.SSB/.SUB/.LIB/.MSB) beside them, for unknown-subprogram checks.
     int stdin_fd = -1;  // stdin copied to an unlinked temporary file: read twice, never held
+    std::string stdin_error;
     bool have_stdin = false;
     ProgramNames names;
     SubprogramDirectories directories;
@@ -229,9 +236,7 @@ int run_check(const CheckOptions& o) {
         }
         if (f == "-") {
             if (!have_stdin) {
-                std::string error;
-                stdin_fd = spool_to_temporary_file(STDIN_FILENO, error);
-                if (stdin_fd < 0) errors.push_back(stdin_name + ": " + error);
+                stdin_fd = spool_to_temporary_file(STDIN_FILENO, stdin_error);  // reported when checked
                 have_stdin = true;
             }
             if (stdin_fd >= 0 && !alone) {
@@ -307,7 +312,8 @@ int run_check(const CheckOptions& o) {
     OrderedOutput ordered(*head, files.size());
     const bool progress = files.size() > 20 && isatty(STDERR_FILENO) && !isatty(STDOUT_FILENO);
     const std::string pool_error =
-        check_files(files, configs, stdin_name, stdin_fd, options, o.jobs, ordered, progress, o.engine_stats);
+        check_files(files, configs, stdin_name, stdin_fd, stdin_error, options, o.jobs, ordered, progress,
+                    o.engine_stats);
     if (stdin_fd >= 0) ::close(stdin_fd);
     writer->finish(counts);
     if (log) log->finish(counts);

@@ -341,7 +341,7 @@ void Walk::fail(std::string message) {
 
 bool Walk::read(Block& b, LineRef& line) {
     if (!main_.next(line)) {
-        if (main_.error()) fail(src_.error());
+        if (main_.error()) fail(main_.stop_reason().empty() ? src_.error() : main_.stop_reason());
         else fail("the file changed while it was being checked: check it again");
         return false;
     }

@@ -1,5 +1,6 @@
 #include "support/io.h"
 
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +12,11 @@
 #endif
 
 namespace osplint {
+
+std::string line_too_long_message(uint64_t line) {
+    return "line " + std::to_string(line) + " is longer than " + std::to_string(kMaxLineLength) +
+           " bytes (1 MiB): not a part program";
+}
 
 int64_t MemorySource::read(uint64_t offset, char* buf, size_t len) {
     if (offset >= text_.size()) return 0;
@@ -104,30 +110,55 @@ int spool_to_temporary_file(int fd, std::string& error, uint64_t limit) {
         error = std::string("cannot create a temporary file: ") + std::strerror(errno);
         return -1;
     }
+    auto fail = [&](std::string why) {
+        error = std::move(why);
+        ::close(out);
+        return -1;
+    };
     std::vector<char> buf(size_t(1) << 20);
     uint64_t total = 0;
+    uint64_t line = 1;        // the line being copied
+    uint64_t line_bytes = 0;  // its length so far
+    bool after_cr = false;    // the last byte copied was a CR (a LF next ends no line)
+    uint64_t next_room_check = 0;
     while (true) {
         const ssize_t r = ::read(fd, buf.data(), buf.size());
         if (r < 0) {
             if (errno == EINTR) continue;
-            error = std::string("read error: ") + std::strerror(errno);
-            ::close(out);
-            return -1;
+            return fail(std::string("read error: ") + std::strerror(errno));
         }
         if (r == 0) break;
         total += static_cast<uint64_t>(r);
-        if (total > limit) {
-            error = kTooLargeMessage;
-            ::close(out);
-            return -1;
+        if (total > limit) return fail(kTooLargeMessage);
+        // Lines: a line longer than any osplint reads ends the copy.
+        const char* p = buf.data();
+        const char* const e = p + r;
+        if (after_cr && *p == '\n') ++p;
+        after_cr = false;
+        while (const char* b = find_line_break(p, e)) {
+            ++line;
+            line_bytes = 0;
+            p = b + 1;
+            if (*b == '\r') {
+                if (p == e) after_cr = true;
+                else if (*p == '\n') ++p;
+            }
+        }
+        line_bytes += static_cast<uint64_t>(e - p);
+        if (line_bytes > kMaxLineLength) return fail(line_too_long_message(line));
+        // Room on the disk: the copy stops before it fills the disk.
+        if (total >= next_room_check) {
+            struct statvfs vfs;
+            if (::fstatvfs(out, &vfs) == 0 && uint64_t(vfs.f_bavail) * vfs.f_frsize < (uint64_t(256) << 20))
+                return fail("not enough room left on the disk for a temporary copy of standard input (" +
+                            std::to_string(total >> 20) + " MiB read)");
+            next_room_check = total + (uint64_t(64) << 20);
         }
         for (ssize_t done = 0; done < r;) {
             const ssize_t w = ::write(out, buf.data() + done, static_cast<size_t>(r - done));
             if (w < 0) {
                 if (errno == EINTR) continue;
-                error = std::string("cannot write a temporary file: ") + std::strerror(errno);
-                ::close(out);
-                return -1;
+                return fail(std::string("cannot write a temporary file: ") + std::strerror(errno));
             }
             done += w;
         }
@@ -188,6 +219,11 @@ bool LineStream::next(LineRef& out) {
             found = true;
         }
         if (found) {
+            if (text_len > kMaxLineLength) {
+                error_ = true;
+                stop_reason_ = line_too_long_message(line_);
+                return false;
+            }
             out.text = std::string_view(p, text_len);
             out.terminator = std::string_view(p + text_len, term_len);
             out.line = line_++;
@@ -206,6 +242,11 @@ bool LineStream::fill() {
         end_ -= pos_;
         buf_offset_ += pos_;
         pos_ = 0;
+    }
+    if (end_ > kMaxLineLength) {  // the line in the buffer has no end in sight
+        error_ = true;
+        stop_reason_ = line_too_long_message(line_);
+        return false;
     }
     if (buf_.size() < chunk_) buf_.resize(chunk_);
     if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // a line longer than the buffer

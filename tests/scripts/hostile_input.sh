@@ -153,6 +153,16 @@ done
 "$osplint" check --format json "$dir/NESTOPEN.MIN" > "$dir/out.json" 2>/dev/null
 grep -q '"OSP001"' "$dir/out.json" || { echo "FAIL: unclosed brackets give no OSP001"; fail=1; }
 
+# Endless input without a line end: stopped at the first line longer than
+# 1 MiB, with a message, in memory and on the disk.
+LIMIT=30 run check /dev/zero
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"line 1 is longer than"* ]] || { echo "FAIL: check /dev/zero needs exit 2 and a message"; fail=1; }
+LIMIT=30 run check - < /dev/zero
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"line 1 is longer than"* ]] || { echo "FAIL: check - < /dev/zero needs exit 2 and a message"; fail=1; }
+[[ $(grep -c "longer than" "$dir/stderr") -eq 1 ]] || { echo "FAIL: check - < /dev/zero must say it once"; fail=1; }
+LIMIT=30 run trace /dev/zero
+[[ $LAST_CODE -eq 2 ]] || { echo "FAIL: trace /dev/zero needs exit 2"; fail=1; }
+
 # Worker threads that cannot be started (-j 1000 under a memory limit): the
 # files are checked by those that started.
 mkdir "$dir/many"
