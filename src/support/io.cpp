@@ -1,5 +1,7 @@
 #include "support/io.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
@@ -165,6 +167,60 @@ int spool_to_temporary_file(int fd, std::string& error, uint64_t limit) {
     }
     ::lseek(out, 0, SEEK_SET);
     return out;
+}
+
+bool write_file_atomically(const std::string& path, std::string_view content, std::string& error) {
+    const size_t slash = path.rfind('/');
+    const std::string dir = slash == std::string::npos ? std::string(".") : path.substr(0, slash + 1);
+    const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    std::string tmp = (slash == std::string::npos ? std::string() : dir) + "." + name + ".XXXXXX";
+    const int fd = ::mkostemp(tmp.data(), O_CLOEXEC);  // O_CREAT | O_EXCL: never an existing file or link
+    if (fd < 0) {
+        error = std::string("cannot create a temporary file beside it: ") + std::strerror(errno);
+        return false;
+    }
+    auto fail = [&](const char* what) {
+        error = std::string(what) + ": " + std::strerror(errno);
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        return false;
+    };
+    struct stat st;
+    mode_t mode;
+    if (::stat(path.c_str(), &st) == 0) {
+        mode = st.st_mode & 07777;
+    } else {
+        const mode_t mask = ::umask(0);
+        ::umask(mask);
+        mode = 0666 & ~mask;
+    }
+    if (::fchmod(fd, mode) != 0) return fail("cannot set the permissions of the temporary file");
+    for (size_t done = 0; done < content.size();) {
+        const ssize_t w = ::write(fd, content.data() + done, content.size() - done);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            return fail("write error");
+        }
+        done += static_cast<size_t>(w);
+    }
+    if (::fsync(fd) != 0) return fail("write error");
+    if (::close(fd) != 0) {
+        error = std::string("write error: ") + std::strerror(errno);
+        ::unlink(tmp.c_str());
+        return false;
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        error = std::string("cannot replace it: ") + std::strerror(errno);
+        ::unlink(tmp.c_str());
+        return false;
+    }
+    // The rename itself on the disk.
+    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+        ::fsync(dfd);
+        ::close(dfd);
+    }
+    return true;
 }
 
 const char* find_line_break(const char* p, const char* e) {

@@ -109,6 +109,14 @@ private:
 // with `error` set on failure. For standard input read by several passes.
 int spool_to_temporary_file(int fd, std::string& error, uint64_t limit = kMaxInputSize);
 
+// Replaces `path` with `content` atomically: written to a new temporary file
+// in the same directory (created exclusively, so a planted file or symbolic
+// link is never followed), flushed to the disk, then renamed over `path`.
+// On any failure the temporary file is removed, `path` is left as it was,
+// and `error` says why (false is returned). The file keeps the permissions of
+// the one it replaces (new: 0666 less the umask).
+bool write_file_atomically(const std::string& path, std::string_view content, std::string& error);
+
 // The first LF or CR in [p, e), or nullptr.
 const char* find_line_break(const char* p, const char* e);
 

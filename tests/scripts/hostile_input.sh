@@ -44,7 +44,7 @@ ln -s "$dir/does-not-exist.MIN" "$dir/DANGLING.MIN"
 
 run() {  # run ARGS... ; checks exit code and stderr (time limit: $LIMIT seconds)
   local out err code
-  out=$(timeout "${LIMIT:-120}" "$osplint" "$@" 2>"$dir/stderr" >/dev/null; echo $?)
+  out=$(timeout "${LIMIT:-120}" "$osplint" "$@" 2>"$dir/stderr" >"${OUT:-/dev/null}"; echo $?)
   code=$out
   err=$(cat "$dir/stderr")
   if [[ $code -gt 2 ]]; then
@@ -162,6 +162,43 @@ LIMIT=30 run check - < /dev/zero
 [[ $(grep -c "longer than" "$dir/stderr") -eq 1 ]] || { echo "FAIL: check - < /dev/zero must say it once"; fail=1; }
 LIMIT=30 run trace /dev/zero
 [[ $LAST_CODE -eq 2 ]] || { echo "FAIL: trace /dev/zero needs exit 2"; fail=1; }
+
+# Output that cannot be written: a message on stderr and exit code 2.
+mkdir "$dir/progs"
+printf 'O1000\nCALL OZAGR PX=-70. PY=0 PR=5. PZ=-29. PI=6. PF=50 PS=600 M52\nM30\n' > "$dir/progs/A.MIN"
+printf 'O2000\nG0 X1\nM30\n' > "$dir/progs/B.MIN"
+for fmt in text json sarif; do
+  OUT=/dev/full LIMIT=30 run check --format $fmt "$dir/progs"
+  [[ $LAST_CODE -eq 2 && $LAST_ERR == *"could not be written"* ]] || { echo "FAIL: $fmt to /dev/full needs exit 2 and a message"; fail=1; }
+done
+code=$(timeout 30 "$osplint" check "$dir/progs" 2>"$dir/stderr" >&-; echo $?)
+[[ $code -eq 2 ]] && grep -q "standard output is closed" "$dir/stderr" || { echo "FAIL: a closed stdout needs exit 2 and a message"; fail=1; }
+OUT=/dev/full LIMIT=30 run rules
+[[ $LAST_CODE -eq 2 ]] || { echo "FAIL: rules to /dev/full needs exit 2"; fail=1; }
+code=$( (ulimit -f 1 && timeout 30 "$osplint" check --format sarif "$dir/progs" "$dir/progs" "$dir/BINARY.MIN" > "$dir/out.sarif" 2>"$dir/stderr"); echo $?)
+[[ $code -eq 2 ]] && grep -q "could not be written" "$dir/stderr" || { echo "FAIL: SARIF past the file size limit needs exit 2 and a message (got $code)"; fail=1; }
+
+# The baseline: written atomically, never after an input error, never through a planted link.
+base="$dir/progs/base.json"
+"$osplint" check --write-baseline "$base" "$dir/progs" >/dev/null 2>&1
+cp "$base" "$dir/base.orig"
+[[ $(grep -c '"fingerprint"' "$base") -ge 1 ]] || { echo "FAIL: the baseline records nothing"; fail=1; }
+LIMIT=30 run check --write-baseline "$base" "$dir/progs" "$dir/MISSING.MIN"
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"was not written"* ]] && cmp -s "$base" "$dir/base.orig" ||
+  { echo "FAIL: the baseline was rewritten after an input error"; fail=1; }
+ln -s "$dir/victim" "$base.tmp"
+for i in $(seq 1 20); do  # a baseline longer than the 1 KiB limit below
+  printf 'O3%03d\nCALL OZAGR PX=-70. PY=0 PR=5. PZ=-29. PI=6. PF=50 PS=600 M52\nM30\n' "$i" > "$dir/progs/C$i.MIN"
+done
+code=$( (ulimit -f 1 && timeout 30 "$osplint" check --write-baseline "$base" "$dir/progs" >/dev/null 2>"$dir/stderr"); echo $?)
+[[ $code -eq 2 ]] && grep -q "not written" "$dir/stderr" && cmp -s "$base" "$dir/base.orig" ||
+  { echo "FAIL: a baseline write that fails must leave the old one (got $code)"; fail=1; }
+LIMIT=30 run check --write-baseline "$base" "$dir/progs"
+[[ $LAST_CODE -eq 0 && ! -e "$dir/victim" ]] || { echo "FAIL: the baseline write followed a planted link"; fail=1; }
+[[ $(ls -A "$dir/progs" | grep -c base.json) -eq 2 ]] || { echo "FAIL: a temporary baseline file was left behind"; ls -A "$dir/progs"; fail=1; }
+printf '{"version": 4294967297, "entries": []}' > "$dir/v.json"
+LIMIT=30 run check --baseline "$dir/v.json" "$dir/progs"
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"unsupported version 4294967297"* ]] || { echo "FAIL: baseline version 4294967297 must be rejected"; fail=1; }
 
 # Worker threads that cannot be started (-j 1000 under a memory limit): the
 # files are checked by those that started.

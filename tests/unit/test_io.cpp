@@ -1,13 +1,19 @@
 // Reading input (support/io.h): a line longer than kMaxLineLength stops the
 // reading with a message naming the line, in the line stream, the outline,
 // the copy of standard input and a whole check; memory never grows with it.
+// Writing a file atomically: replaced whole or not at all.
 #include <doctest/doctest.h>
 
 #include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstdio>
+#include <filesystem>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "api/check.h"
 #include "support/io.h"
@@ -60,4 +66,76 @@ TEST_CASE("the copy of standard input stops at a line longer than kMaxLineLength
     writer.join();
     CHECK(fd < 0);
     CHECK(error == line_too_long_message(4));
+}
+
+namespace {
+
+std::string slurp(const std::string& path) {
+    std::string out;
+    FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return "(missing)";
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) out.append(buf, n);
+    std::fclose(f);
+    return out;
+}
+
+// The names in a directory other than `keep`.
+std::vector<std::string> others(const std::filesystem::path& dir, const std::string& keep) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.path().filename() != keep) names.push_back(e.path().filename().string());
+    return names;
+}
+
+}  // namespace
+
+TEST_CASE("write_file_atomically: replaces the file, keeps its permissions, leaves nothing behind") {
+    const auto dir = std::filesystem::temp_directory_path() / ("osplint-atomic-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "b.json").string();
+    std::string error;
+    REQUIRE(write_file_atomically(path, "first", error));
+    CHECK(slurp(path) == "first");
+    ::chmod(path.c_str(), 0640);
+    REQUIRE(write_file_atomically(path, "second", error));
+    CHECK(slurp(path) == "second");
+    struct stat st;
+    REQUIRE(::stat(path.c_str(), &st) == 0);
+    CHECK((st.st_mode & 0777) == 0640);
+    CHECK(others(dir, "b.json").empty());
+
+    SUBCASE("a planted link where a temporary file could be is never followed") {
+        const std::string victim = (dir / "victim").string();
+        for (const char* name : {"b.json.tmp", ".b.json.tmp"})
+            std::filesystem::create_symlink(victim, dir / name);
+        REQUIRE(write_file_atomically(path, "third", error));
+        CHECK(slurp(path) == "third");
+        CHECK_FALSE(std::filesystem::exists(victim));
+    }
+    SUBCASE("a write that fails leaves the file as it was and no temporary file") {
+        ::signal(SIGXFSZ, SIG_IGN);
+        struct rlimit old;
+        REQUIRE(::getrlimit(RLIMIT_FSIZE, &old) == 0);
+        struct rlimit small = old;
+        small.rlim_cur = 3;
+        REQUIRE(::setrlimit(RLIMIT_FSIZE, &small) == 0);
+        const bool ok = write_file_atomically(path, "a longer text than the limit", error);
+        ::setrlimit(RLIMIT_FSIZE, &old);
+        CHECK_FALSE(ok);
+        CHECK(error.find("write error") == 0);
+        CHECK(slurp(path) == "second");
+        CHECK(others(dir, "b.json").empty());
+    }
+    SUBCASE("a directory in the way: an error, and no temporary file") {
+        const std::string sub = (dir / "sub").string();
+        std::filesystem::create_directories(dir / "sub" / "inner");
+        CHECK_FALSE(write_file_atomically(sub, "x", error));
+        CHECK(error.find("cannot replace it") == 0);
+        CHECK(others(dir, "b.json") == std::vector<std::string>{"sub"});
+        CHECK_FALSE(write_file_atomically((dir / "missing" / "b.json").string(), "x", error));
+        CHECK(error.find("cannot create a temporary file") == 0);
+    }
+    std::filesystem::remove_all(dir);
 }
