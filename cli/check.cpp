@@ -106,7 +106,8 @@ std::string describe(const EngineStats& s) {
 // grow with the findings. Returns an error when the workers could not all be
 // started (the files are then checked by those that were).
 std::string check_files(const std::vector<std::string>& files, const std::vector<std::shared_ptr<Config>>& configs,
-                        const std::string& stdin_name, int stdin_fd, const std::string& stdin_error,
+                        const std::vector<std::string>& not_checked, const std::string& stdin_name,
+                        int stdin_fd, const std::string& stdin_error,
                         const AnalysisOptions& options, unsigned jobs,
                         OrderedOutput& out, bool progress, bool report_stats) {
     std::atomic<size_t> next{0};
@@ -121,9 +122,9 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
                 AnalysisOptions mine = options;
                 EngineStats stats;
                 if (report_stats) mine.stats = &stats;
-                if (files[i] == "-" && stdin_fd < 0) {
+                if (!not_checked[i].empty() || (files[i] == "-" && stdin_fd < 0)) {
                     sink.begin_file(path);
-                    sink.end_file(path, stdin_error);
+                    sink.end_file(path, not_checked[i].empty() ? stdin_error : not_checked[i]);
                 } else if (files[i] == "-") {
                     check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
                 }
@@ -201,13 +202,26 @@ int run_check(const CheckOptions& o) {
         if (dir.empty()) dir = ".";
         return dir;
     };
+    // A broken osplint.toml is reported once, the files it applies to are not
+    // checked (null configuration), and the others are.
+    std::map<std::string, std::string> broken;  // configuration file -> its error
+    std::map<std::string, std::string> broken_by_dir;
     auto config_for = [&](const std::string& file) -> std::shared_ptr<Config> {
         if (fixed) return fixed;
         fs::path dir = dir_of(file);
         std::string key = dir.string();
         if (auto it = by_dir.find(key); it != by_dir.end()) return it->second;
         auto c = std::make_shared<Config>();
-        if (auto f = find_config(dir)) *c = load_config(*f);
+        if (auto f = find_config(dir)) {
+            try {
+                *c = load_config(*f);
+            } catch (const ConfigError& e) {
+                broken.emplace(f->string(), e.what());
+                broken_by_dir[key] = f->string();
+                by_dir[key] = nullptr;
+                return nullptr;
+            }
+        }
         apply_selection(*c, o);
         by_dir[key] = c;
         return c;
@@ -215,6 +229,12 @@ int run_check(const CheckOptions& o) {
     std::vector<std::shared_ptr<Config>> configs;
     configs.reserve(files.size());
     for (const auto& f : files) configs.push_back(config_for(f));
+    for (const auto& [file, error] : broken) errors.push_back("configuration error: " + error);
+    std::vector<std::string> not_checked(files.size());  // why a file is not checked
+    for (size_t i = 0; i < files.size(); ++i)
+        if (!configs[i])
+            not_checked[i] = "not checked: its configuration " + broken_by_dir[dir_of(files[i]).string()] +
+                             " has an error";
 
     // Program names defined by the checked files and by the subprogram files
     // (.SSB/.SUB/.LIB/.MSB) beside them, for unknown-subprogram checks.
@@ -312,7 +332,7 @@ int run_check(const CheckOptions& o) {
     OrderedOutput ordered(*head, files.size());
     const bool progress = files.size() > 20 && isatty(STDERR_FILENO) && !isatty(STDOUT_FILENO);
     const std::string pool_error =
-        check_files(files, configs, stdin_name, stdin_fd, stdin_error, options, o.jobs, ordered, progress,
+        check_files(files, configs, not_checked, stdin_name, stdin_fd, stdin_error, options, o.jobs, ordered, progress,
                     o.engine_stats);
     if (stdin_fd >= 0) ::close(stdin_fd);
     writer->finish(counts);

@@ -184,8 +184,13 @@ int main(int argc, char** argv) {
         if (*lsp_cmd) return cli::run_lsp();
         if (*config_cmd) {
             Config c;
+            std::error_code ec;
             if (!config_file.empty()) {
                 c = load_config(config_file);
+            } else if (!fs::is_directory(config_dir, ec)) {
+                std::cerr << "osplint: " << config_dir
+                          << (fs::exists(config_dir, ec) ? ": not a directory" : ": no such directory") << "\n";
+                return 2;
             } else if (auto f = find_config(config_dir)) {
                 c = load_config(*f);
             }

@@ -200,6 +200,29 @@ printf '{"version": 4294967297, "entries": []}' > "$dir/v.json"
 LIMIT=30 run check --baseline "$dir/v.json" "$dir/progs"
 [[ $LAST_CODE -eq 2 && $LAST_ERR == *"unsupported version 4294967297"* ]] || { echo "FAIL: baseline version 4294967297 must be rejected"; fail=1; }
 
+# Configurations: a directory or a missing path is an error; a broken
+# osplint.toml stops only the files it applies to.
+mkdir -p "$dir/cfg/good" "$dir/cfg/bad/deeper"
+for f in good/A bad/B bad/deeper/C; do cp "$dir/progs/A.MIN" "$dir/cfg/$f.MIN"; done
+printf '[machine\nunits = "mm"\n' > "$dir/cfg/bad/osplint.toml"
+LIMIT=30 run check "$dir/cfg"
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"bad/osplint.toml"* && $LAST_ERR == *"bad/deeper/C.MIN: not checked"* &&
+   $LAST_ERR != *"good/A.MIN"* ]] || { echo "FAIL: a broken osplint.toml must stop only its own files"; fail=1; }
+grep -q "OSP104" <(timeout 30 "$osplint" check "$dir/cfg" 2>/dev/null) || { echo "FAIL: the other files were not checked"; fail=1; }
+LIMIT=30 run check --config "$dir/cfg" "$dir/cfg/good"
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"is a directory"* ]] || { echo "FAIL: --config DIR needs exit 2 and a message"; fail=1; }
+LIMIT=30 run config "$dir/nonexistent"
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"no such directory"* ]] || { echo "FAIL: config /nonexistent needs exit 2"; fail=1; }
+for t in '[macros.gcode]\nG0 = "OZAGR"' '[macros.gcode]\nM30 = "OZAGR"' '[machine.travel]\nz = [-inf, inf]' \
+         '[macro.OZAGR.arg.PM]\nallowed = [nan]'; do
+  printf "$t\n" > "$dir/c.toml"
+  LIMIT=30 run config --config "$dir/c.toml"
+  [[ $LAST_CODE -eq 2 && $LAST_ERR == *"configuration error"* ]] || { echo "FAIL: $t must be rejected"; fail=1; }
+done
+python3 -c "print('[machine]\n' + 'k' * 1000000 + ' = 1')" > "$dir/c.toml"
+LIMIT=30 run config --config "$dir/c.toml"
+[[ $LAST_CODE -eq 2 && ${#LAST_ERR} -lt 3000 ]] || { echo "FAIL: a 1 MB key must be abbreviated in the message"; fail=1; }
+
 # Worker threads that cannot be started (-j 1000 under a memory limit): the
 # files are checked by those that started.
 mkdir "$dir/many"
