@@ -288,6 +288,15 @@ private:
 // ------------------------------------------------------------------ setup
 
 std::string Walk::run() {
+    // A UTF-16 file is not read as bytes of a program (every line would be a
+    // syntax error): it is said once what it is.
+    unsigned char bom[2] = {0, 0};
+    if (src_.read(0, reinterpret_cast<char*>(bom), 2) == 2 &&
+        ((bom[0] == 0xFF && bom[1] == 0xFE) || (bom[0] == 0xFE && bom[1] == 0xFF))) {
+        sink_.begin_file(path_);
+        sink_.end_file(path_, std::string(kUtf16Message));
+        return std::string(kUtf16Message);
+    }
     OutlineOptions oo;
     oo.chunk_size = options_.chunk_size;
     outline_ = outline_file(src_, oo);

@@ -22,6 +22,8 @@ namespace osplint {
 // The largest input osplint checks: byte offsets are 32-bit.
 inline constexpr uint64_t kMaxInputSize = 0xFFFFFFF0ull;
 inline constexpr const char* kTooLargeMessage = "file too large (osplint checks files up to 4 GiB)";
+inline constexpr const char* kUtf16Message =
+    "the file is UTF-16 (it starts with a UTF-16 byte order mark): save it as ASCII, UTF-8 or Shift-JIS";
 // The longest line osplint reads: a block is a line, and a longer one is not
 // a part program (it would only make the memory of the check grow with it).
 inline constexpr size_t kMaxLineLength = size_t(1) << 20;

@@ -26,6 +26,7 @@ w("UTF8BAD.MIN", b"O1000\n(\xff\xfe\xc3\x28 \xe2\x82) G0 X1\n\xc0\xaf G1 Y2\nM30
 w("LONGLINE.MIN", b"O1000\n" + b"G1 X1 Y2 Z3 " * 100000 + b"\nM30\n")
 w("CRONLY.MIN", b"O1000\rG0 X1\r\r\rM30")
 w("MANYLINES.MIN", b"\n" * 300000)
+w("UTF16.MIN", "O1000\nG0 X1\nM30\n".encode("utf-16"))
 # Tree-sitter fails on some 65,000 nested brackets, and its error recovery
 # grows with the square of the tokens it skips.
 w("DEEP.MIN", b"O1000\nVC1=" + b"[" * 70000 + b"\nM30\n")
@@ -152,6 +153,9 @@ done
 # The deep-nesting cases must be reported, not passed over.
 "$osplint" check --format json "$dir/NESTOPEN.MIN" > "$dir/out.json" 2>/dev/null
 grep -q '"OSP001"' "$dir/out.json" || { echo "FAIL: unclosed brackets give no OSP001"; fail=1; }
+
+LIMIT=30 run check "$dir/UTF16.MIN"
+[[ $LAST_CODE -eq 2 && $LAST_ERR == *"the file is UTF-16"* ]] || { echo "FAIL: a UTF-16 file needs exit 2 and a message"; fail=1; }
 
 # Endless input without a line end: stopped at the first line longer than
 # 1 MiB, with a message, in memory and on the disk.

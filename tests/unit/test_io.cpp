@@ -139,3 +139,15 @@ TEST_CASE("write_file_atomically: replaces the file, keeps its permissions, leav
     }
     std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("a UTF-16 file is said to be UTF-16, not a syntax error on every line") {
+    const std::string le("\xFF\xFEO\0001\0\n\0G\0000\0 \0X\0001\0\n\0", 18);
+    const std::string be("\xFE\xFF\0O\0001\0\n", 8);
+    for (const std::string& text : {le, be}) {
+        const FileResult r = check_text("U16.MIN", text, Config{});
+        CHECK(r.io_error == kUtf16Message);
+        CHECK(r.diagnostics.empty());
+    }
+    // A UTF-8 byte order mark is read as usual.
+    CHECK(check_text("U8.MIN", "\xEF\xBB\xBFO1\nG0 X1\nM30\n", Config{}).io_error.empty());
+}
