@@ -28,6 +28,7 @@
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"
+#include "support/threads.h"
 
 namespace fs = std::filesystem;
 
@@ -109,7 +110,9 @@ std::string describe(const EngineStats& s) {
 // grow with the findings. Returns an error when the workers could not all be
 // started (the files are then checked by those that were).
 std::string check_files(const std::vector<std::string>& files, const std::vector<std::shared_ptr<Config>>& configs,
-                        const std::string& stdin_name, int stdin_fd, const AnalysisOptions& options, unsigned jobs,
+                        const std::vector<std::string>& not_checked, const std::string& stdin_name,
+                        int stdin_fd, const std::string& stdin_error,
+                        const AnalysisOptions& options, unsigned jobs,
                         OrderedOutput& out, bool progress, bool report_stats) {
     std::atomic<size_t> next{0};
     std::atomic<size_t> done{0};
@@ -123,12 +126,19 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
                 AnalysisOptions mine = options;
                 EngineStats stats;
                 if (report_stats) mine.stats = &stats;
-                if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
+                if (!not_checked[i].empty() || (files[i] == "-" && stdin_fd < 0)) {
+                    sink.begin_file(path);
+                    sink.end_file(path, not_checked[i].empty() ? stdin_error : not_checked[i]);
+                } else if (files[i] == "-") {
+                    check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
+                }
                 else check_path(files[i], *configs[i], mine, sink);
                 if (report_stats) {
                     std::lock_guard<std::mutex> lock(mu);
                     std::cerr << "osplint: " << path << ": " << describe(stats) << "\n";
                 }
+            } catch (const std::bad_alloc&) {
+                sink.end_file(path, "out of memory while checking this file");
             } catch (const std::exception& e) {
                 sink.end_file(path, std::string("internal error while checking this file (please report it): ") +
                                         e.what());
@@ -143,28 +153,17 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
         worker();
         return {};
     }
-    std::string error;
-    std::vector<std::thread> pool;
-    for (unsigned k = 0; k < n; ++k) {
-        try {
-            pool.emplace_back(worker);
-        } catch (const std::system_error& e) {
-            error = std::string("could not start more than ") + std::to_string(k) + " worker thread" +
-                    (k == 1 ? "" : "s") + " (" + e.what() + ")";
-            break;
-        }
-    }
-    if (pool.empty()) worker();  // this thread does the work
-    if (progress) {
+    // This thread shows the progress, or is one of the workers.
+    auto show_progress = [&] {
         std::unique_lock<std::mutex> lock(mu);
         while (done.load() < files.size()) {
             cv.wait_for(lock, std::chrono::milliseconds(100));
             std::cerr << "\rosplint: checked " << done.load() << "/" << files.size() << " files" << std::flush;
         }
         std::cerr << "\r\x1b[K" << std::flush;
-    }
-    for (auto& t : pool) t.join();
-    return error;
+    };
+    if (progress) return run_on_threads(n, worker, show_progress);
+    return run_on_threads(n - 1, worker, worker);
 }
 
 // --statistics: how many findings each rule made, in place of the findings.
@@ -234,13 +233,26 @@ int run_check(const CheckOptions& o) {
         if (dir.empty()) dir = ".";
         return dir;
     };
+    // A broken osplint.toml is reported once, the files it applies to are not
+    // checked (null configuration), and the others are.
+    std::map<std::string, std::string> broken;  // configuration file -> its error
+    std::map<std::string, std::string> broken_by_dir;
     auto config_for = [&](const std::string& file) -> std::shared_ptr<Config> {
         if (fixed) return fixed;
         fs::path dir = dir_of(file);
         std::string key = dir.string();
         if (auto it = by_dir.find(key); it != by_dir.end()) return it->second;
         auto c = std::make_shared<Config>();
-        if (auto f = find_config(dir)) *c = load_config(*f);
+        if (auto f = find_config(dir)) {
+            try {
+                *c = load_config(*f);
+            } catch (const ConfigError& e) {
+                broken.emplace(f->string(), e.what());
+                broken_by_dir[key] = f->string();
+                by_dir[key] = nullptr;
+                return nullptr;
+            }
+        }
         apply_selection(*c, o);
         by_dir[key] = c;
         return c;
@@ -248,10 +260,17 @@ int run_check(const CheckOptions& o) {
     std::vector<std::shared_ptr<Config>> configs;
     configs.reserve(files.size());
     for (const auto& f : files) configs.push_back(config_for(f));
+    for (const auto& [file, error] : broken) errors.push_back("configuration error: " + error);
+    std::vector<std::string> not_checked(files.size());  // why a file is not checked
+    for (size_t i = 0; i < files.size(); ++i)
+        if (!configs[i])
+            not_checked[i] = "not checked: its configuration " + broken_by_dir[dir_of(files[i]).string()] +
+                             " has an error";
 
     // Program names defined by the checked files and by the subprogram files
     // (.SSB/.SUB/.LIB/.MSB) beside them, for unknown-subprogram checks.
     int stdin_fd = -1;  // stdin copied to an unlinked temporary file: read twice, never held
+    std::string stdin_error;
     bool have_stdin = false;
     ProgramNames names;
     SubprogramDirectories directories;
@@ -268,9 +287,7 @@ int run_check(const CheckOptions& o) {
         }
         if (f == "-") {
             if (!have_stdin) {
-                std::string error;
-                stdin_fd = spool_to_temporary_file(STDIN_FILENO, error);
-                if (stdin_fd < 0) errors.push_back(stdin_name + ": " + error);
+                stdin_fd = spool_to_temporary_file(STDIN_FILENO, stdin_error);  // reported when checked
                 have_stdin = true;
             }
             if (stdin_fd >= 0 && !alone) {
@@ -286,19 +303,18 @@ int run_check(const CheckOptions& o) {
     {
         const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
         const size_t n = std::min<size_t>(o.jobs ? o.jobs : cores, to_scan.size());
-        std::vector<ProgramNames> found(n);
         std::atomic<size_t> next{0};
-        auto scan = [&](size_t k) {
-            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) add_program_names(fs::path(to_scan[i]), found[k]);
+        std::mutex mu;
+        auto scan = [&] {
+            ProgramNames found;
+            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) add_program_names(fs::path(to_scan[i]), found);
+            std::lock_guard<std::mutex> lock(mu);
+            names.merge(found);
         };
-        if (n <= 1) {
-            if (n == 1) scan(0);
-        } else {
-            std::vector<std::thread> pool;
-            for (size_t k = 0; k < n; ++k) pool.emplace_back(scan, k);
-            for (auto& t : pool) t.join();
+        if (n >= 1) {
+            const std::string error = run_on_threads(static_cast<unsigned>(n - 1), scan, scan);
+            if (!error.empty()) std::cerr << "osplint: note: " << error << "; fewer files were read at once\n";
         }
-        for (auto& f : found) names.merge(f);
     }
 
     AnalysisOptions options;
@@ -353,7 +369,8 @@ int run_check(const CheckOptions& o) {
     const bool progress = !o.quiet && files.size() > 20 && isatty(STDERR_FILENO) &&
                           (!o.output_file.empty() || !isatty(STDOUT_FILENO));
     const std::string pool_error =
-        check_files(files, configs, stdin_name, stdin_fd, options, o.jobs, ordered, progress, o.engine_stats);
+        check_files(files, configs, not_checked, stdin_name, stdin_fd, stdin_error, options, o.jobs, ordered, progress,
+                    o.engine_stats);
     if (stdin_fd >= 0) ::close(stdin_fd);
     if (o.statistics) statistics.write(report);
     // --quiet: the text formats' summary line is left out; JSON and SARIF

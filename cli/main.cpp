@@ -1,8 +1,12 @@
 // osplint command line: check, rules, explain, config (and trace, lsp).
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -125,6 +129,9 @@ int cmd_explain(const std::string& what_in) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Past a file size limit, a write fails (and is reported) instead of
+    // ending the process.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"osplint: static analyzer for Okuma OSP part programs"};
     app.require_subcommand(0, 1);
     bool show_version = false;
@@ -162,26 +169,48 @@ int main(int argc, char** argv) {
     }
     if (show_version) {
         std::cout << "osplint " << version() << "\n";
-        return 0;
+        std::cout.flush();
+        return std::cout ? 0 : 2;
     }
+    // What a command wrote to standard output must have been written: a full
+    // disk or a closed descriptor is an error (exit 2), never a silent loss.
+    auto output_written = [](int code) {
+        errno = 0;
+        std::cout.flush();
+        const bool failed = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout);
+        if (!failed) return code;
+        const int e = errno;
+        std::string why = e ? std::strerror(e) : "write error";
+        if (::fcntl(STDOUT_FILENO, F_GETFD) == -1) why = "standard output is closed";
+        std::cerr << "osplint: the report could not be written to standard output: " << why << "\n";
+        return 2;
+    };
     try {
-        if (*check_cmd) return cli::run_check(check);
-        if (*rules_cmd) return cmd_rules();
-        if (*explain_cmd) return cmd_explain(explain_what);
-        if (*trace_cmd) return cli::run_trace(trace);
+        if (*check_cmd) return output_written(cli::run_check(check));
+        if (*rules_cmd) return output_written(cmd_rules());
+        if (*explain_cmd) return output_written(cmd_explain(explain_what));
+        if (*trace_cmd) return output_written(cli::run_trace(trace));
         if (*lsp_cmd) return cli::run_lsp();
         if (*config_cmd) {
             Config c;
+            std::error_code ec;
             if (!config_file.empty()) {
                 c = load_config(config_file);
+            } else if (!fs::is_directory(config_dir, ec)) {
+                std::cerr << "osplint: " << config_dir
+                          << (fs::exists(config_dir, ec) ? ": not a directory" : ": no such directory") << "\n";
+                return 2;
             } else if (auto f = find_config(config_dir)) {
                 c = load_config(*f);
             }
             std::cout << dump_config(c);
-            return 0;
+            return output_written(0);
         }
     } catch (const ConfigError& e) {
         std::cerr << "osplint: configuration error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "osplint: out of memory\n";
         return 2;
     } catch (const std::exception& e) {
         std::cerr << "osplint: " << e.what() << "\n";

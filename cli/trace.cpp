@@ -14,6 +14,7 @@
 #include "api/config.h"
 #include "cli/commands.h"
 #include "output/svg.h"
+#include "support/io.h"
 #include "semantics/motion.h"
 
 namespace fs = std::filesystem;
@@ -148,12 +149,11 @@ int run_trace(const TraceOptions& o) {
     }
     if (!o.svg.empty()) {
         SvgPicture pic = render_motion_svg(printer.envelopes, config, fs::path(o.path).filename().string());
-        std::ofstream out(o.svg, std::ios::binary);
-        if (!out) {
-            std::cerr << "osplint: " << o.svg << ": cannot write\n";
+        std::string write_error;
+        if (!write_file_atomically(o.svg, pic.svg, write_error)) {
+            std::cerr << "osplint: " << o.svg << ": not written: " << write_error << "\n";
             return 2;
         }
-        out << pic.svg;
         std::cerr << "osplint: wrote " << o.svg << " (" << pic.columns << " column" << (pic.columns == 1 ? "" : "s")
                   << ")\n";
     }

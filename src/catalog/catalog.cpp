@@ -179,6 +179,36 @@ const Reading* MacroSpec::reading(std::string_view id) const {
 // ---------------------------------------------------------------------------
 // Catalog lookups
 
+std::string_view Catalog::builtin_meaning(std::string_view code) {
+    const std::string norm = catalog_detail::normalize_code(code);
+    if (norm.empty() || norm.size() > 5) return {};
+    const int n = std::stoi(norm.substr(1));
+    if (norm[0] == 'G') {
+        switch (n) {
+            case 0: case 1: case 2: case 3: case 60: return "a motion code";
+            case 4: return "the dwell";
+            case 10: case 11: case 15: case 16: return "a coordinate system code";
+            case 17: case 18: case 19: return "a plane selection";
+            case 20: case 21: return "a unit selection";
+            case 30: return "the home position return";
+            case 40: case 41: case 42: return "a cutter compensation code";
+            case 53: case 56: return "a tool length offset code";
+            case 90: case 91: return "a distance mode";
+            case 98: case 99: return "a fixed-cycle return level";
+            default: return n >= 73 && n <= 89 ? "a fixed cycle" : std::string_view();
+        }
+    }
+    switch (n) {
+        case 0: case 1: return "a program stop";
+        case 2: case 30: return "the program end";
+        case 3: case 4: case 5: case 19: return "a spindle code";
+        case 6: return "the tool change";
+        case 7: case 8: case 9: case 12: return "a coolant code";
+        case 52: case 53: case 54: return "a fixed-cycle return level";
+        default: return {};
+    }
+}
+
 void Catalog::register_code(std::string code, std::string macro) {
     std::string norm = normalize_code(code);
     if (norm.empty()) throw std::invalid_argument("not a G or M code: " + code);

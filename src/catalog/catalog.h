@@ -261,6 +261,10 @@ public:
     // anything but a G or M code throws std::invalid_argument. The macro need
     // not exist yet (find_by_code then returns nullptr).
     void register_code(std::string code, std::string macro);
+    // What the control itself does with a G or M code the analysis models
+    // ("a motion code" for G0, "ends the program" for M30), or "" when the
+    // code is free for a macro. Such a code cannot be registered.
+    static std::string_view builtin_meaning(std::string_view code);
     const MacroSpec* find_by_code(std::string_view code) const;
     const std::map<std::string, std::string>& registrations() const { return codes_; }
 

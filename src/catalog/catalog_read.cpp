@@ -5,6 +5,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <set>
 #include <utility>
@@ -52,6 +53,12 @@ public:
 
     bool has(std::string_view key) const { return table_.contains(key); }
 
+    // inf and nan are TOML floats, and never a value a macro takes.
+    double finite(const toml::node* at, std::string_view key, double v) const {
+        if (!std::isfinite(v)) fail(at, key, "expected a finite number, found " + format_number(v));
+        return v;
+    }
+
     const toml::node* get(std::string_view key) {
         seen_.insert(std::string(key));
         return table_.get(key);
@@ -73,7 +80,7 @@ public:
         const toml::node* n = get(key);
         if (!n) return std::nullopt;
         if (n->is_integer()) return static_cast<double>(n->as_integer()->get());
-        if (n->is_floating_point()) return n->as_floating_point()->get();
+        if (n->is_floating_point()) return finite(n, key, n->as_floating_point()->get());
         fail(n, key, "expected a number, found " + std::string(type_name(*n)));
     }
     const toml::table* table(std::string_view key) {
@@ -107,7 +114,7 @@ public:
             if (e.is_integer())
                 out.push_back(static_cast<double>(e.as_integer()->get()));
             else if (e.is_floating_point())
-                out.push_back(e.as_floating_point()->get());
+                out.push_back(finite(&e, key, e.as_floating_point()->get()));
             else
                 fail(&e, key, "expected an array of numbers, found " + std::string(type_name(e)));
         }
@@ -246,7 +253,8 @@ void read_in_format(Reader& r, ArgSpec& arg) {
 void read_default(Reader& r, ArgSpec& arg) {
     if (const toml::node* n = r.get("default")) {
         if (n->is_integer() || n->is_floating_point()) {
-            double v = n->is_integer() ? static_cast<double>(n->as_integer()->get()) : n->as_floating_point()->get();
+            double v = n->is_integer() ? static_cast<double>(n->as_integer()->get())
+                                       : r.finite(n, "default", n->as_floating_point()->get());
             arg.default_value = v;
             arg.default_text = format_number(v);
         } else if (n->is_string()) {
@@ -363,7 +371,9 @@ void read_codes(Reader& r, MacroSpec& spec) {
     const toml::node* n = r.get("codes");
     for (const auto& c : *v) {
         std::string code = normalize_code(c);
-        if (code.empty()) r.fail(n, "codes", "\"" + c + "\" is not a G or M code");
+        if (code.empty()) r.fail(n, "codes", "\"" + c.substr(0, 40) + (c.size() > 40 ? "..." : "") + "\" is not a G or M code");
+        if (auto meaning = Catalog::builtin_meaning(code); !meaning.empty())
+            r.fail(n, "codes", code + " is " + std::string(meaning) + " of the control, not a macro code");
         spec.codes.push_back(code);
     }
 }

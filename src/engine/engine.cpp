@@ -277,12 +277,27 @@ private:
     Folder folder_{0};
     Block block_buf_;           // the block read last by the walk
     Block comment_block_;       // a line parsed again for its comments
+    // The fingerprint text of the last line a finding was on: a line with many
+    // findings is read and folded once.
+    uint32_t fingerprint_line_ = 0;
+    std::string fingerprint_program_;
+    std::string fingerprint_text_;
+    std::map<std::string, uint64_t, std::less<>> fingerprint_keys_;  // by rule
     FastLineParser comment_parser_;
 };
 
 // ------------------------------------------------------------------ setup
 
 std::string Walk::run() {
+    // A UTF-16 file is not read as bytes of a program (every line would be a
+    // syntax error): it is said once what it is.
+    unsigned char bom[2] = {0, 0};
+    if (src_.read(0, reinterpret_cast<char*>(bom), 2) == 2 &&
+        ((bom[0] == 0xFF && bom[1] == 0xFE) || (bom[0] == 0xFE && bom[1] == 0xFF))) {
+        sink_.begin_file(path_);
+        sink_.end_file(path_, std::string(kUtf16Message));
+        return std::string(kUtf16Message);
+    }
     OutlineOptions oo;
     oo.chunk_size = options_.chunk_size;
     outline_ = outline_file(src_, oo);
@@ -336,7 +351,7 @@ void Walk::fail(std::string message) {
 
 bool Walk::read(Block& b, LineRef& line) {
     if (!main_.next(line)) {
-        if (main_.error()) fail(src_.error());
+        if (main_.error()) fail(main_.stop_reason().empty() ? src_.error() : main_.stop_reason());
         else fail("the file changed while it was being checked: check it again");
         return false;
     }
@@ -921,7 +936,7 @@ Diagnostic& Walk::report(const RuleMeta& rule, ByteRange range, std::string mess
     d.severity = config_.severity_of(rule.id, rule.severity, rule.enabled_by_default).value_or(rule.severity);
     d.message = std::move(message);
     d.range = positions_.range(range);
-    d.line_text = abbreviate(positions_.line_text(d.range.start.line), 1000);
+    d.line_text = positions_.line_text(d.range.start.line, 1000);
     d.kind = pending_verdict_ ? pending_kind_ : message_kind(rule.id, d.message);
     findings_.push_back(std::move(d));
     verdicts_.push_back(pending_verdict_);
@@ -947,9 +962,17 @@ bool Walk::folded(const RuleMeta& rule, std::string_view key, ByteRange range) {
 }
 
 std::string Walk::fingerprint_for(std::string_view rule, uint32_t line) {
-    const LineData ld = positions_.line(line);
-    const std::string norm = fingerprint_text(ld.text, ld.start, ld.ok ? comments_of(ld) : nullptr);
-    return make_fingerprint(rule, program_.name, norm, occurrences_.next(rule, program_.name, norm));
+    if (line != fingerprint_line_ || line == 0 || program_.name != fingerprint_program_) {
+        const LineData ld = positions_.line(line);
+        fingerprint_text_ = fingerprint_text(ld.text, ld.start, ld.ok ? comments_of(ld) : nullptr);
+        fingerprint_line_ = line;
+        fingerprint_program_ = program_.name;
+        fingerprint_keys_.clear();
+    }
+    auto it = fingerprint_keys_.find(rule);
+    if (it == fingerprint_keys_.end())
+        it = fingerprint_keys_.emplace(std::string(rule), fingerprint_key(rule, program_.name, fingerprint_text_)).first;
+    return make_fingerprint(it->second, occurrences_.next(it->second));
 }
 
 // The comments of the block of a line.

@@ -22,11 +22,12 @@ struct Fnv {
 }  // namespace
 
 std::string fingerprint_text(std::string_view line, uint32_t line_start, const std::vector<Comment>* comments) {
+    // The comments are in order: one pass over the line and them.
+    size_t k = 0;
     auto in_comment = [&](uint32_t offset) {
         if (!comments) return false;
-        for (const auto& c : *comments)
-            if (c.range.contains(offset)) return true;
-        return false;
+        while (k < comments->size() && (*comments)[k].range.end <= offset) ++k;
+        return k < comments->size() && (*comments)[k].range.contains(offset);
     };
     std::string norm;
     for (uint32_t i = 0; i < line.size(); ++i)
@@ -37,15 +38,24 @@ std::string fingerprint_text(std::string_view line, uint32_t line_start, const s
     return norm;
 }
 
-std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
-                             int occurrence) {
-    // FNV-1a 64, printed as hex: stable across platforms and runs.
+uint64_t fingerprint_key(std::string_view rule, std::string_view program, std::string_view block_text) {
     Fnv f;
     f.mix(rule);
     f.mix(program);
     f.mix(block_text);
+    return f.h;
+}
+
+std::string make_fingerprint(uint64_t key, int occurrence) {
+    // FNV-1a 64, printed as hex: stable across platforms and runs.
+    Fnv f{key};
     f.mix(std::to_string(occurrence));
     return fmt::format("{:016x}", f.h);
+}
+
+std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
+                             int occurrence) {
+    return make_fingerprint(fingerprint_key(rule, program, block_text), occurrence);
 }
 
 bool OccurrenceCounter::insert(uint64_t key) {
@@ -68,15 +78,15 @@ bool OccurrenceCounter::insert(uint64_t key) {
     }
 }
 
-int OccurrenceCounter::next(std::string_view rule, std::string_view program, std::string_view block_text) {
-    Fnv f;
-    f.mix(rule);
-    f.mix(program);
-    f.mix(block_text);
-    if (insert(f.h)) return 1;
-    int& n = repeats_[f.h];
+int OccurrenceCounter::next(uint64_t key) {
+    if (insert(key)) return 1;
+    int& n = repeats_[key];
     if (n == 0) n = 1;
     return ++n;
+}
+
+int OccurrenceCounter::next(std::string_view rule, std::string_view program, std::string_view block_text) {
+    return next(fingerprint_key(rule, program, block_text));
 }
 
 }  // namespace osplint

@@ -23,6 +23,10 @@ std::string fingerprint_text(std::string_view line, uint32_t line_start, const s
 // rule + program + block text + occurrence, as 16 hex digits (FNV-1a 64).
 std::string make_fingerprint(std::string_view rule, std::string_view program, std::string_view block_text,
                              int occurrence);
+// The same in two steps, for many findings of one rule on one block: the hash
+// of rule + program + block text (once), then the fingerprint of an occurrence.
+uint64_t fingerprint_key(std::string_view rule, std::string_view program, std::string_view block_text);
+std::string make_fingerprint(uint64_t key, int occurrence);
 
 // Counts the occurrences of (rule, program, block text) in one file. Keeps a
 // 64-bit hash of each distinct combination in an open-addressing table (8 to
@@ -32,6 +36,8 @@ class OccurrenceCounter {
 public:
     // The 1-based occurrence of this combination, counting this one.
     int next(std::string_view rule, std::string_view program, std::string_view block_text);
+    // The same by fingerprint_key.
+    int next(uint64_t key);
     void clear() {
         slots_.clear();
         used_ = 0;

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 
+#include "support/text.h"
 #include "syntax/source.h"
 
 namespace osplint {
 
 void Window::set(std::string_view t, uint32_t b, uint32_t line) {
+    ascii_ = -1;
+    memo_ = Position{0, 0, 0, 0};
     text = t;
     base = b;
     first_line = line;
@@ -20,6 +23,8 @@ void Window::set(std::string_view t, uint32_t b, uint32_t line) {
 }
 
 void Window::set_line(const LineRef& l) {
+    ascii_ = -1;
+    memo_ = Position{0, 0, 0, 0};
     text = std::string_view(l.text.data(), l.text.size() + l.terminator.size());
     base = l.start;
     first_line = l.line;
@@ -40,9 +45,32 @@ Position Window::position(uint32_t offset) const {
     Position p;
     p.line = first_line + static_cast<uint32_t>(k);
     p.byte_col = rel - starts[k];
-    const ColumnCount c = count_columns(text.substr(starts[k], rel - starts[k]));
-    p.cp_col = c.cp;
-    p.utf16_col = c.utf16;
+    // Columns cost nothing in ASCII text, and are counted on from the last
+    // position asked for on the same line: a line with many findings is not
+    // read again for each of them.
+    if (ascii_ < 0) {
+        ascii_ = 1;
+        for (const char ch : text)
+            if (static_cast<unsigned char>(ch) >= 0x80) {
+                ascii_ = 0;
+                break;
+            }
+    }
+    if (ascii_) {
+        p.cp_col = p.utf16_col = p.byte_col;
+        return p;
+    }
+    uint32_t from = starts[k];
+    ColumnCount c;
+    if (memo_.line == p.line && memo_.byte_col <= p.byte_col) {
+        from = starts[k] + memo_.byte_col;
+        c.cp = memo_.cp_col;
+        c.utf16 = memo_.utf16_col;
+    }
+    const ColumnCount more = count_columns(text.substr(from, rel - from));
+    p.cp_col = c.cp + more.cp;
+    p.utf16_col = c.utf16 + more.utf16;
+    memo_ = p;
     return p;
 }
 
@@ -101,11 +129,11 @@ LineData Positions::line(uint32_t line) {
     return find_line(line);
 }
 
-std::string Positions::line_text(uint32_t n) {
+std::string Positions::line_text(uint32_t n, size_t max) {
     for (const Window* w : {&current(), static_cast<const Window*>(&held)})
-        if (w->has_line(n)) return std::string(w->line_text(n));
+        if (w->has_line(n)) return abbreviate(w->line_text(n), max);
     const LineData& d = find_line(n);
-    return d.ok ? d.text : std::string();
+    return d.ok ? abbreviate(d.text, max) : std::string();
 }
 
 // Reads lines from the last checkpoint before the target until `stop` accepts one.

@@ -35,6 +35,10 @@ struct Window {
     std::string_view line_text(uint32_t line) const;        // without its terminator
     std::string_view line_terminator(uint32_t line) const;  // empty for an unterminated last line
     uint32_t line_start(uint32_t line) const { return base + starts[line - first_line]; }
+
+private:
+    mutable int ascii_ = -1;             // whether text is all ASCII; -1: not looked at yet
+    mutable Position memo_{0, 0, 0, 0};  // the last position counted (line 0: none)
 };
 
 // A line read again: its number, start, text and terminator.
@@ -81,7 +85,8 @@ public:
     SourceRange range(ByteRange r) { return SourceRange{r, position(r.begin), position(r.end)}; }
     // The line `line` (1-based): from a window, or read again.
     LineData line(uint32_t line);
-    std::string line_text(uint32_t line);
+    // Its text, abbreviated to `max` bytes (support/text.h: abbreviate).
+    std::string line_text(uint32_t line, size_t max);
 
     static constexpr uint32_t kCheckpointLines = 1024;
 

@@ -1,5 +1,7 @@
 #include "output/baseline.h"
 
+#include "support/io.h"
+
 #include <algorithm>
 #include <fstream>
 #include <map>
@@ -65,8 +67,12 @@ Baseline parse_baseline(std::string_view text, const std::string& origin) {
         throw fail(std::string("not valid JSON (") + e.what() + ")");
     }
     if (!j.is_object()) throw fail("expected a JSON object");
-    if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<int>() != 1)
-        throw fail("unsupported version (this osplint reads baseline version 1)");
+    if (!j.contains("version")) throw fail("no \"version\" (this osplint reads baseline version 1)");
+    // Compared as JSON values: 4294967297 is not 1, whatever an int would make of it.
+    if (!j["version"].is_number_integer() || j["version"] != nlohmann::json(1))
+        throw fail("unsupported version " +
+                   j["version"].dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).substr(0, 40) +
+                   " (this osplint reads baseline version 1)");
     Baseline b;
     if (j.contains("tool") && j["tool"].is_object() && j["tool"].contains("version") &&
         j["tool"]["version"].is_string())
@@ -94,21 +100,9 @@ Baseline load_baseline(const fs::path& file) {
 }
 
 void write_baseline(const Baseline& baseline, const fs::path& file) {
-    fs::path tmp = file;
-    tmp += ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw std::runtime_error("baseline " + file.string() + ": cannot be written");
-        out << render_baseline(baseline);
-        out.flush();
-        if (!out) throw std::runtime_error("baseline " + file.string() + ": write error");
-    }
-    std::error_code ec;
-    fs::rename(tmp, file, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw std::runtime_error("baseline " + file.string() + ": cannot be written");
-    }
+    std::string error;
+    if (!write_file_atomically(file.string(), render_baseline(baseline), error))
+        throw std::runtime_error("baseline " + file.string() + ": not written: " + error);
 }
 
 namespace {

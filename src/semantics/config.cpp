@@ -1,5 +1,6 @@
 #include "semantics/config.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -75,6 +76,7 @@ void read_machine(Config& c, const std::string& origin, const toml::table& m) {
                 if (e.is_floating_point()) lim[i] = *e.value<double>();
                 else if (e.is_integer()) lim[i] = static_cast<double>(*e.value<int64_t>());
                 else fail(origin, e, key, "expected numbers");
+                if (!std::isfinite(lim[i])) fail(origin, e, key, "expected finite numbers (a travel has two ends)");
             }
             if (!(lim[0] < lim[1])) fail(origin, v, key, "min must be below max");
             c.travel[static_cast<char>(std::toupper(static_cast<unsigned char>(k.str()[0])))] = {lim[0], lim[1]};
@@ -132,6 +134,8 @@ Config read_config_text(std::string_view text, const std::string& origin, const 
                 bool ok = code.size() >= 2 && (code[0] == 'G' || code[0] == 'M');
                 for (size_t i = 1; ok && i < code.size(); ++i) ok = std::isdigit(static_cast<unsigned char>(code[i]));
                 if (!ok) fail(origin, v, key, "expected a G or M code such as G114 or M204");
+                if (auto meaning = Catalog::builtin_meaning(code); !meaning.empty())
+                    fail(origin, v, key, code + " is " + std::string(meaning) + " of the control, not a macro code");
                 auto macro = expect_string(origin, v, key);
                 if (!c.catalog.find(macro))
                     fail(origin, v, key, "macro \"" + macro + "\" is not in the catalog (define it under [macro." +
@@ -155,10 +159,16 @@ Config read_config_text(std::string_view text, const std::string& origin, const 
 }
 
 Config read_config_file(const std::filesystem::path& file, const RuleIdentities& rules) {
+    std::error_code ec;
+    const auto st = std::filesystem::status(file, ec);
+    if (!std::filesystem::exists(st)) throw ConfigError(file.string(), 0, "", "no such configuration file");
+    if (std::filesystem::is_directory(st))
+        throw ConfigError(file.string(), 0, "", "is a directory, not a configuration file (osplint.toml)");
     std::ifstream in(file, std::ios::binary);
     if (!in) throw ConfigError(file.string(), 0, "", "cannot read the configuration file");
     std::ostringstream ss;
     ss << in.rdbuf();
+    if (in.bad()) throw ConfigError(file.string(), 0, "", "cannot read the configuration file");
     return read_config_text(ss.str(), file.string(), rules);
 }
 

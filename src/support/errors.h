@@ -20,11 +20,15 @@ public:
 private:
     static std::string format(const std::string& file, uint32_t line, const std::string& key,
                               const std::string& message) {
-        std::string s = file;
+        // A key or a value can be as long as the file: shown abbreviated.
+        auto cut = [](const std::string& t, size_t max) {
+            return t.size() <= max ? t : t.substr(0, max) + "... (" + std::to_string(t.size()) + " bytes)";
+        };
+        std::string s = cut(file, 1000);
         if (line) s += ":" + std::to_string(line);
         s += ": ";
-        if (!key.empty()) s += "'" + key + "': ";
-        return s + message;
+        if (!key.empty()) s += "'" + cut(key, 80) + "': ";
+        return s + cut(message, 1000);
     }
     std::string file_;
     uint32_t line_;

@@ -1,5 +1,8 @@
 #include "support/io.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +14,11 @@
 #endif
 
 namespace osplint {
+
+std::string line_too_long_message(uint64_t line) {
+    return "line " + std::to_string(line) + " is longer than " + std::to_string(kMaxLineLength) +
+           " bytes (1 MiB): not a part program";
+}
 
 int64_t MemorySource::read(uint64_t offset, char* buf, size_t len) {
     if (offset >= text_.size()) return 0;
@@ -104,36 +112,115 @@ int spool_to_temporary_file(int fd, std::string& error, uint64_t limit) {
         error = std::string("cannot create a temporary file: ") + std::strerror(errno);
         return -1;
     }
+    auto fail = [&](std::string why) {
+        error = std::move(why);
+        ::close(out);
+        return -1;
+    };
     std::vector<char> buf(size_t(1) << 20);
     uint64_t total = 0;
+    uint64_t line = 1;        // the line being copied
+    uint64_t line_bytes = 0;  // its length so far
+    bool after_cr = false;    // the last byte copied was a CR (a LF next ends no line)
+    uint64_t next_room_check = 0;
     while (true) {
         const ssize_t r = ::read(fd, buf.data(), buf.size());
         if (r < 0) {
             if (errno == EINTR) continue;
-            error = std::string("read error: ") + std::strerror(errno);
-            ::close(out);
-            return -1;
+            return fail(std::string("read error: ") + std::strerror(errno));
         }
         if (r == 0) break;
         total += static_cast<uint64_t>(r);
-        if (total > limit) {
-            error = kTooLargeMessage;
-            ::close(out);
-            return -1;
+        if (total > limit) return fail(kTooLargeMessage);
+        // Lines: a line longer than any osplint reads ends the copy.
+        const char* p = buf.data();
+        const char* const e = p + r;
+        if (after_cr && *p == '\n') ++p;
+        after_cr = false;
+        while (const char* b = find_line_break(p, e)) {
+            ++line;
+            line_bytes = 0;
+            p = b + 1;
+            if (*b == '\r') {
+                if (p == e) after_cr = true;
+                else if (*p == '\n') ++p;
+            }
+        }
+        line_bytes += static_cast<uint64_t>(e - p);
+        if (line_bytes > kMaxLineLength) return fail(line_too_long_message(line));
+        // Room on the disk: the copy stops before it fills the disk.
+        if (total >= next_room_check) {
+            struct statvfs vfs;
+            if (::fstatvfs(out, &vfs) == 0 && uint64_t(vfs.f_bavail) * vfs.f_frsize < (uint64_t(256) << 20))
+                return fail("not enough room left on the disk for a temporary copy of standard input (" +
+                            std::to_string(total >> 20) + " MiB read)");
+            next_room_check = total + (uint64_t(64) << 20);
         }
         for (ssize_t done = 0; done < r;) {
             const ssize_t w = ::write(out, buf.data() + done, static_cast<size_t>(r - done));
             if (w < 0) {
                 if (errno == EINTR) continue;
-                error = std::string("cannot write a temporary file: ") + std::strerror(errno);
-                ::close(out);
-                return -1;
+                return fail(std::string("cannot write a temporary file: ") + std::strerror(errno));
             }
             done += w;
         }
     }
     ::lseek(out, 0, SEEK_SET);
     return out;
+}
+
+bool write_file_atomically(const std::string& path, std::string_view content, std::string& error) {
+    const size_t slash = path.rfind('/');
+    const std::string dir = slash == std::string::npos ? std::string(".") : path.substr(0, slash + 1);
+    const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    std::string tmp = (slash == std::string::npos ? std::string() : dir) + "." + name + ".XXXXXX";
+    const int fd = ::mkostemp(tmp.data(), O_CLOEXEC);  // O_CREAT | O_EXCL: never an existing file or link
+    if (fd < 0) {
+        error = std::string("cannot create a temporary file beside it: ") + std::strerror(errno);
+        return false;
+    }
+    auto fail = [&](const char* what) {
+        error = std::string(what) + ": " + std::strerror(errno);
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        return false;
+    };
+    struct stat st;
+    mode_t mode;
+    if (::stat(path.c_str(), &st) == 0) {
+        mode = st.st_mode & 07777;
+    } else {
+        const mode_t mask = ::umask(0);
+        ::umask(mask);
+        mode = 0666 & ~mask;
+    }
+    if (::fchmod(fd, mode) != 0) return fail("cannot set the permissions of the temporary file");
+    for (size_t done = 0; done < content.size();) {
+        const ssize_t w = ::write(fd, content.data() + done, content.size() - done);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            return fail("write error");
+        }
+        done += static_cast<size_t>(w);
+    }
+    if (::fsync(fd) != 0) return fail("write error");
+    if (::close(fd) != 0) {
+        error = std::string("write error: ") + std::strerror(errno);
+        ::unlink(tmp.c_str());
+        return false;
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        error = std::string("cannot replace it: ") + std::strerror(errno);
+        ::unlink(tmp.c_str());
+        return false;
+    }
+    // The rename itself on the disk.
+    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+        ::fsync(dfd);
+        ::close(dfd);
+    }
+    return true;
 }
 
 const char* find_line_break(const char* p, const char* e) {
@@ -188,6 +275,11 @@ bool LineStream::next(LineRef& out) {
             found = true;
         }
         if (found) {
+            if (text_len > kMaxLineLength) {
+                error_ = true;
+                stop_reason_ = line_too_long_message(line_);
+                return false;
+            }
             out.text = std::string_view(p, text_len);
             out.terminator = std::string_view(p + text_len, term_len);
             out.line = line_++;
@@ -206,6 +298,11 @@ bool LineStream::fill() {
         end_ -= pos_;
         buf_offset_ += pos_;
         pos_ = 0;
+    }
+    if (end_ > kMaxLineLength) {  // the line in the buffer has no end in sight
+        error_ = true;
+        stop_reason_ = line_too_long_message(line_);
+        return false;
     }
     if (buf_.size() < chunk_) buf_.resize(chunk_);
     if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // a line longer than the buffer

@@ -22,6 +22,13 @@ namespace osplint {
 // The largest input osplint checks: byte offsets are 32-bit.
 inline constexpr uint64_t kMaxInputSize = 0xFFFFFFF0ull;
 inline constexpr const char* kTooLargeMessage = "file too large (osplint checks files up to 4 GiB)";
+inline constexpr const char* kUtf16Message =
+    "the file is UTF-16 (it starts with a UTF-16 byte order mark): save it as ASCII, UTF-8 or Shift-JIS";
+// The longest line osplint reads: a block is a line, and a longer one is not
+// a part program (it would only make the memory of the check grow with it).
+inline constexpr size_t kMaxLineLength = size_t(1) << 20;
+// "line N is longer than 1 MiB ...".
+std::string line_too_long_message(uint64_t line);
 
 // One line of a file: its text without the terminator, the terminator itself
 // ("\n", "\r\n", "\r" or "" for an unterminated last line), its 1-based number
@@ -104,6 +111,14 @@ private:
 // with `error` set on failure. For standard input read by several passes.
 int spool_to_temporary_file(int fd, std::string& error, uint64_t limit = kMaxInputSize);
 
+// Replaces `path` with `content` atomically: written to a new temporary file
+// in the same directory (created exclusively, so a planted file or symbolic
+// link is never followed), flushed to the disk, then renamed over `path`.
+// On any failure the temporary file is removed, `path` is left as it was,
+// and `error` says why (false is returned). The file keeps the permissions of
+// the one it replaces (new: 0666 less the umask).
+bool write_file_atomically(const std::string& path, std::string_view content, std::string& error);
+
 // The first LF or CR in [p, e), or nullptr.
 const char* find_line_break(const char* p, const char* e);
 
@@ -118,6 +133,9 @@ public:
     // The next line; false at the end of the input or on a read error.
     bool next(LineRef& out);
     bool error() const { return error_; }
+    // Why reading stopped when the stream itself stopped it (a line longer
+    // than kMaxLineLength); empty when the source failed (its error()).
+    const std::string& stop_reason() const { return stop_reason_; }
     // Offset (64-bit) of the line next() returned last.
     uint64_t last_start() const { return start64_; }
     // Offset and number of the line next() will return.
@@ -135,6 +153,7 @@ private:
     uint64_t start64_ = 0;
     bool eof_ = false;
     bool error_ = false;
+    std::string stop_reason_;
     uint32_t line_ = 1;
 };
 

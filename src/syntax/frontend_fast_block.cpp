@@ -2,12 +2,14 @@
 // byte ranges of a block shifted, one line parsed by the tree-sitter front
 // end in place, a readable dump of a block, and a whole file parsed line by
 // line.
+#include <algorithm>
 #include <charconv>
 #include <limits>
 #include <string>
 
 #include "syntax/frontend.h"
 #include "syntax/frontend_fast.h"
+#include "syntax/frontend_ts_linecheck.h"
 
 namespace osplint {
 
@@ -52,6 +54,22 @@ void shift_block(Block& b, int64_t delta) {
 }
 
 void parse_line_tree_sitter(const LineRef& line, Block& out) {
+    const uint32_t start = line.start;
+    const uint32_t size = static_cast<uint32_t>(line.text.size());
+    // Bounds on tree-sitter's work (frontend_ts_linecheck.h): an expression
+    // nested too deeply is not parsed at all, and a line is read only a
+    // little past its first error.
+    const ts_detail::LineBound bound = ts_detail::bound_line(line.text);
+    if (bound.too_deep != std::string_view::npos) {
+        Block b;
+        b.line = line.line;
+        b.line_start = start;
+        b.range = {start, start + size};
+        const uint32_t at = start + static_cast<uint32_t>(bound.too_deep);
+        b.errors.push_back({{at, std::min(at + 1, start + size)}, "expression nested too deeply"});
+        out = std::move(b);
+        return;
+    }
     // The line is parsed after one blank, so that every offset of its own text
     // is above zero and an unset range ({0, 0}) is never taken for a set one.
     // A blank is padding to the grammar and changes no node; a node error
@@ -61,17 +79,23 @@ void parse_line_tree_sitter(const LineRef& line, Block& out) {
     text.reserve(line.text.size() + line.terminator.size() + 1);
     text.push_back(' ');
     text.append(line.text);
+    const bool cut = bound.cut != std::string_view::npos;
+    if (cut) std::fill(text.begin() + 1 + static_cast<std::ptrdiff_t>(bound.cut), text.end(), ' ');
     text.append(line.terminator);
     ProgramFile f = parse_program_file_once(std::string(), std::move(text));
     Block b = f.blocks.empty() ? Block{} : std::move(f.blocks[0]);
-    const uint32_t start = line.start;
     for_each_range(b, [&](ByteRange& r) {
         r.begin = (r.begin ? r.begin - 1 : 0) + start;
         r.end = (r.end ? r.end - 1 : 0) + start;
     });
     b.line = line.line;
     b.line_start = line.start;
-    b.range = {line.start, line.start + static_cast<uint32_t>(line.text.size())};
+    b.range = {start, start + size};
+    if (cut) {
+        const uint32_t at = start + static_cast<uint32_t>(bound.cut);
+        b.errors.push_back({{at, start + size}, "the line is not read further: " + std::to_string(start + size - at) +
+                                                    " more characters after a syntax error"});
+    }
     out = std::move(b);
 }
 

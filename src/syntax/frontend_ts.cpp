@@ -17,6 +17,7 @@
 
 #include "syntax/frontend_ts_convert.h"
 #include "syntax/frontend_ts_grammar.h"
+#include "syntax/frontend_ts_linecheck.h"
 
 namespace osplint {
 
@@ -108,12 +109,16 @@ void mark_error_lines(TSNode root, const SourceText& src, std::vector<char>& mar
     ts_tree_cursor_delete(&c);
 }
 
-void parse_blocks(const SourceText& src, std::vector<Block>& blocks, std::vector<char>* error_lines) {
+// `ts_text` is what tree-sitter reads: the source, or a copy of it with the
+// lines it must not be given blanked (see parse_file).
+void parse_blocks(const SourceText& src, std::string_view ts_text, std::vector<Block>& blocks,
+                  std::vector<char>* error_lines) {
     const Grammar& g = grammar();
     std::unique_ptr<TSParser, decltype(&ts_parser_delete)> parser(ts_parser_new(), &ts_parser_delete);
     ts_parser_set_language(parser.get(), g.lang);
     using Tree = std::unique_ptr<TSTree, decltype(&ts_tree_delete)>;
-    Tree tree(ts_parser_parse_string(parser.get(), nullptr, src.text().data(), src.size()), &ts_tree_delete);
+    Tree tree(ts_parser_parse_string(parser.get(), nullptr, ts_text.data(), static_cast<uint32_t>(ts_text.size())),
+              &ts_tree_delete);
     if (!tree) {
         blocks[0].errors.push_back({{0, 0}, "the parser could not process this file"});
         return;
@@ -140,13 +145,17 @@ void parse_blocks(const SourceText& src, std::vector<Block>& blocks, std::vector
         range.start_point = {static_cast<uint32_t>(i), 0};
         range.end_point = {static_cast<uint32_t>(i), b.range.size()};
         ts_parser_set_included_ranges(parser.get(), &range, 1);
-        Tree line_tree(ts_parser_parse_string(parser.get(), nullptr, src.text().data(), src.size()),
-                       &ts_tree_delete);
+        Tree line_tree(
+            ts_parser_parse_string(parser.get(), nullptr, ts_text.data(), static_cast<uint32_t>(ts_text.size())),
+            &ts_tree_delete);
         if (line_tree) conv.run(ts_tree_root_node(line_tree.get()));
     }
 }
 
-ProgramFile parse_file(std::string path, std::string text, std::vector<char>* error_lines) {
+// With `bound`, the lines tree-sitter must not be given whole (bound_line in
+// frontend_ts_linecheck.h) are blanked in what it reads and marked as error
+// lines: parse_program_file parses them again on their own, with the bound.
+ProgramFile parse_file(std::string path, std::string text, std::vector<char>* error_lines, bool bound) {
     ProgramFile file;
     file.path = std::move(path);
     const bool too_large = text.size() > std::numeric_limits<uint32_t>::max() - 1;
@@ -170,7 +179,24 @@ ProgramFile parse_file(std::string path, std::string text, std::vector<char>* er
         return file;
     }
 
-    if (count > 0) parse_blocks(src, file.blocks, error_lines);
+    std::string masked;
+    std::vector<uint32_t> masked_lines;
+    if (bound) {
+        for (uint32_t i = 1; i <= count; ++i) {
+            const std::string_view t = src.line_text(i);
+            const ts_detail::LineBound b = ts_detail::bound_line(t);
+            if (b.too_deep == std::string_view::npos && b.cut == std::string_view::npos) continue;
+            if (masked.empty()) masked = src.text();
+            const uint32_t at = src.line_start(i);
+            std::fill(masked.begin() + at, masked.begin() + at + static_cast<std::ptrdiff_t>(t.size()), ' ');
+            masked_lines.push_back(i);
+        }
+    }
+    if (count > 0) parse_blocks(src, masked.empty() ? std::string_view(src.text()) : masked, file.blocks, error_lines);
+    if (error_lines && !masked_lines.empty()) {
+        error_lines->resize(count, 0);
+        for (uint32_t l : masked_lines) (*error_lines)[l - 1] = 1;
+    }
     file.programs = split_programs(file.blocks);
     return file;
 }
@@ -179,7 +205,7 @@ ProgramFile parse_file(std::string path, std::string text, std::vector<char>* er
 
 ProgramFile parse_program_file(std::string path, std::string text) {
     std::vector<char> error_lines;
-    ProgramFile file = parse_file(std::move(path), std::move(text), &error_lines);
+    ProgramFile file = parse_file(std::move(path), std::move(text), &error_lines, true);
     // Error lines again, each on its own.
     const SourceText& src = file.source;
     bool changed = false;
@@ -200,7 +226,7 @@ ProgramFile parse_program_file(std::string path, std::string text) {
 }
 
 ProgramFile parse_program_file_once(std::string path, std::string text) {
-    return parse_file(std::move(path), std::move(text), nullptr);
+    return parse_file(std::move(path), std::move(text), nullptr, false);
 }
 
 }  // namespace osplint

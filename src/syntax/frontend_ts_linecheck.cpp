@@ -44,12 +44,17 @@ public:
 
     static constexpr size_t npos = std::string_view::npos;
 
+    // Where an expression nested deeper than kMaxExprDepth starts (the line
+    // was not read past it), or npos.
+    size_t too_deep_at() const { return gave_up_ ? deep_at_ : npos; }
+
 private:
     std::string_view s_;
     size_t p_ = 0;
     size_t fail_ = npos;
     int depth_ = 0;         // expression nesting
     bool gave_up_ = false;  // nested too deeply to check
+    size_t deep_at_ = npos; // where the expression too deep starts
 
     // A run of letters and digits that starts with a letter, as the scanner sees it.
     struct Name {
@@ -389,6 +394,7 @@ private:
     // expression := unary (operator unary)*
     void expression() {
         if (depth_ >= kMaxExprDepth) {
+            if (!gave_up_) deep_at_ = std::min(p_, s_.size());
             gave_up_ = true;
             p_ = s_.size();
             return;
@@ -413,16 +419,19 @@ private:
         }
     }
 
+    // Each operator nests the operand one level deeper.
     void unary() {
+        int operators = 0;
         while (!at_end()) {
             const char c = s_[p_];
-            if (c == '-' || c == '+') {
-                ++p_;
-            } else if (letter(c) && peek_name().text == "NOT") {
-                p_ = peek_name().end;
-            } else {
-                break;
+            if (c != '-' && c != '+' && !(letter(c) && peek_name().text == "NOT")) break;
+            if (depth_ + ++operators > kMaxExprDepth) {
+                if (!gave_up_) deep_at_ = p_;
+                gave_up_ = true;
+                p_ = s_.size();
+                return;
             }
+            p_ = (c == '-' || c == '+') ? p_ + 1 : peek_name().end;
         }
         primary();
     }
@@ -476,5 +485,17 @@ private:
 }  // namespace
 
 std::size_t first_line_error(std::string_view line) { return LineChecker(line).first_error(); }
+
+LineBound bound_line(std::string_view line) {
+    LineBound b;
+    // Too short to nest that deep or to have a tail to cut.
+    if (line.size() <= kMaxErrorTail && line.size() < static_cast<size_t>(kMaxExprDepth)) return b;
+    LineChecker c(line);
+    const size_t error = c.first_error();
+    b.too_deep = c.too_deep_at();
+    if (b.too_deep == LineChecker::npos && error != LineChecker::npos && line.size() - error > kMaxErrorTail)
+        b.cut = error + kMaxErrorTail;
+    return b;
+}
 
 }  // namespace osplint::ts_detail

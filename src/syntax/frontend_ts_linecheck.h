@@ -18,4 +18,18 @@ namespace osplint::ts_detail {
 // first error of a line that tree-sitter rejected.
 std::size_t first_line_error(std::string_view line);
 
+// How much of a line tree-sitter is given. Its runtime fails on brackets
+// nested some 65,000 deep, and its error recovery does work that grows with
+// the square of the tokens it skips (a run of 30,000 `]` takes a minute).
+// So a line whose expressions nest deeper than kMaxExprDepth is not parsed
+// at all (`too_deep`: where the expression too deep starts), and a line is
+// read at most kMaxErrorTail bytes past its first error (`cut`: the bytes
+// from there on are read as blanks). npos: no bound applies.
+inline constexpr std::size_t kMaxErrorTail = 64;
+struct LineBound {
+    std::size_t too_deep = std::string_view::npos;
+    std::size_t cut = std::string_view::npos;
+};
+LineBound bound_line(std::string_view line);
+
 }  // namespace osplint::ts_detail

@@ -158,6 +158,10 @@ private:
             complete_ = end_;
             return true;
         }
+        if (end_ - pos_ > kMaxLineLength && !find_line_break(buf_.data() + pos_, buf_.data() + end_)) {
+            out_.error = line_too_long_message(line_);  // one line, and no end in sight
+            return false;
+        }
         // The last line break that surely ends a line (a CR at the very end may
         // be the first half of a CRLF).
         size_t k = end_;

@@ -2,6 +2,11 @@
 // ConfigError that names the file, the line and the key.
 #include <doctest/doctest.h>
 
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
 #include "api/config.h"
 #include "support/errors.h"
 
@@ -115,4 +120,47 @@ TEST_CASE("configuration mistakes name the file, line and key") {
         auto e = error_of("[macros.gcode]\nX114 = \"OG84L\"\n");
         CHECK(e.key() == "macros.gcode.X114");
     }
+}
+
+TEST_CASE("codes of the control, infinite and undefined numbers, and huge keys are configuration mistakes") {
+    SUBCASE("a motion, end or other built-in code registered as a macro code") {
+        for (const char* code : {"G0", "G01", "G2", "G80", "G83", "G90", "M30", "M2", "M06", "M53"}) {
+            auto e = error_of(std::string("[macros.gcode]\n") + code + " = \"OZAGR\"\n");
+            CHECK(e.key() == std::string("macros.gcode.") + code);
+            CHECK(std::string(e.what()).find("of the control, not a macro code") != std::string::npos);
+        }
+        auto e = error_of("[macro.OZAGR]\ncodes = [\"M30\"]\n");
+        CHECK(e.key() == "macro.OZAGR.codes");
+        CHECK(std::string(e.what()).find("M30 is the program end of the control") != std::string::npos);
+        CHECK(parse_config("[macros.gcode]\nG115 = \"OZAGR\"\n", "x").catalog.find_by_code("G115") != nullptr);
+    }
+    SUBCASE("travel limits that are not finite") {
+        for (const char* t : {"[-inf, inf]", "[nan, 1]", "[0, +inf]"}) {
+            auto e = error_of(std::string("[machine.travel]\nz = ") + t + "\n");
+            CHECK(e.key() == "machine.travel.z");
+            CHECK(std::string(e.what()).find("expected finite numbers") != std::string::npos);
+        }
+    }
+    SUBCASE("catalog numbers that are not finite") {
+        auto e = error_of("[macro.OZAGR.arg.PM]\nallowed = [nan]\n");
+        CHECK(e.key() == "macro.OZAGR.arg.PM.allowed");
+        CHECK(std::string(e.what()).find("expected a finite number, found nan") != std::string::npos);
+        e = error_of("[macro.OZAGR.arg.PM]\ndefault = inf\n");
+        CHECK(std::string(e.what()).find("expected a finite number") != std::string::npos);
+    }
+    SUBCASE("a 1 MB key is not echoed whole") {
+        const std::string key(1 << 20, 'k');
+        auto e = error_of("[machine]\n" + key + " = 1\n");
+        CHECK(e.key().size() > (1u << 20));
+        CHECK(std::string(e.what()).size() < 2500);
+        CHECK(std::string(e.what()).find("bytes)") != std::string::npos);
+    }
+}
+
+TEST_CASE("a configuration path that is a directory or missing is an error") {
+    const auto dir = std::filesystem::temp_directory_path() / ("osplint-config-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    CHECK_THROWS_WITH_AS(load_config(dir), doctest::Contains("is a directory"), ConfigError);
+    CHECK_THROWS_WITH_AS(load_config(dir / "none.toml"), doctest::Contains("no such configuration file"), ConfigError);
+    std::filesystem::remove_all(dir);
 }

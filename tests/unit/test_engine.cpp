@@ -24,6 +24,7 @@
 
 #include "api/check.h"
 #include "api/config.h"
+#include "support/errors.h"
 #include "engine/record.h"
 #include "programs.h"
 #include "reference.h"
@@ -391,7 +392,10 @@ TEST_CASE("engine: plain moves in every modal state give the reference's result"
 TEST_CASE("plain moves: a G0..G3 registered as a macro turns the shortcut off") {
     Config config;
     CHECK(plain_moves_possible(config.catalog));
-    Config shop = parse_config("[macros.gcode]\nG1 = \"OZAGR\"\n", "osplint.toml");
+    // A configuration may not (G1 is the control's own motion code), the library's catalog can.
+    CHECK_THROWS_AS(parse_config("[macros.gcode]\nG1 = \"OZAGR\"\n", "osplint.toml"), ConfigError);
+    Config shop;
+    shop.catalog.register_code("G1", "OZAGR");
     CHECK_FALSE(plain_moves_possible(shop.catalog));
     // `G1 X20.` has the shape of a plain move, but here it calls OZAGR (OSP101).
     compare_checks("shop.min", "O1\nG0 X0 Y0 Z50.\nG1 X10. PR=2. PZ=-5.\nG1 X20.\nM30\n", shop);

@@ -137,6 +137,29 @@ TEST_CASE("fast front end: randomly mutated corpus programs") {
     MESSAGE(rounds << " mutated programs");
 }
 
+TEST_CASE("fast front end: lines too deep or too long past their error give the tree-sitter model") {
+    const std::vector<std::string> lines = {
+        "X=" + std::string(70000, '['),
+        "IF " + std::string(300, '[') + "VC1 EQ 1" + std::string(300, ']') + " NA",
+        "VC1=" + std::string(5000, '-') + "1",
+        "VC1=NOT " + std::string(250, '-'),
+        "VC1=1" + std::string(5000, ']'),
+        "G1 X1" + std::string(3000, ',') + " Y2 (comment)",
+        "N10 G1 X=1" + std::string(3000, '=') + "(OSPLINT-IGNORE OSP001)",
+        "VC1=[" + std::string(63, ' ') + "]" + std::string(100, ']'),
+    };
+    for (size_t i = 0; i < lines.size(); ++i) {
+        const std::string text = "G0\n" + lines[i] + "\nG1 X2\n" + lines[i];
+        const ModelComparison c = compare_models("bound" + std::to_string(i) + ".min", text);
+        CHECK_MESSAGE(c.strict == 0, c.report);
+        const ProgramFile f = parse_program_file("bound.min", text);
+        REQUIRE(f.blocks.size() == 4);
+        CHECK_FALSE(f.blocks[1].errors.empty());
+        CHECK(f.blocks[2].errors.empty());
+        CHECK(f.blocks[1].errors.size() == f.blocks[3].errors.size());
+    }
+}
+
 TEST_CASE("tree-sitter front end: an error line is parsed on its own, whatever its neighbours") {
     // `$` inside a block: in the whole file, error recovery took `$1 D12` for a
     // tape header after a missing line end, which gave no syntax error at all.

@@ -626,6 +626,40 @@ TEST_CASE("hostile input never crashes") {
         CHECK(f.blocks[2].errors.empty());
         CHECK(f.blocks[2].has_code("G", 1));
     }
+    SUBCASE("70,000 unclosed brackets: not handed to tree-sitter, which fails on them") {
+        for (const std::string head : {"X=", "IF ", "VC1=SIN", "VC1=VC"}) {
+            const std::string deep = "G0\n" + head + std::string(70000, '[') + "\nG1\n";
+            const auto f = parse(deep);
+            REQUIRE(f.blocks.size() == 3);
+            REQUIRE(f.blocks[1].errors.size() == 1);
+            CHECK(f.blocks[1].errors[0].message == "expression nested too deeply");
+            CHECK(f.blocks[2].has_code("G", 1));
+        }
+    }
+    SUBCASE("70,000 signs without an operand") {
+        const auto f = parse("VC1=" + std::string(70000, '-') + "\nG1\n");
+        REQUIRE(f.blocks.size() == 2);
+        REQUIRE(f.blocks[0].errors.size() == 1);
+        CHECK(f.blocks[0].errors[0].message == "expression nested too deeply");
+        CHECK(f.blocks[1].has_code("G", 1));
+    }
+    SUBCASE("a long run of ] , or = after an expression is read only a little past the error") {
+        for (const char c : {']', ',', '='}) {
+            const std::string line = "VC1=1" + std::string(32000, c);
+            const auto f = parse(line + "\nG1\n");
+            REQUIRE(f.blocks.size() == 2);
+            const auto& errors = f.blocks[0].errors;
+            REQUIRE(errors.size() == 2);
+            CHECK(errors[0].range.begin == 5);
+            const uint32_t cut = 5 + 64;
+            CHECK(errors[1].range.begin == cut);
+            CHECK(errors[1].range.end == line.size());
+            CHECK(errors[1].message ==
+                  "the line is not read further: " + std::to_string(line.size() - cut) +
+                      " more characters after a syntax error");
+            CHECK(f.blocks[1].has_code("G", 1));
+        }
+    }
     SUBCASE("20,000 unclosed brackets") {
         const std::string deep = "G0\nX=" + std::string(20000, '[') + "1\nG1\nG2 X5\n";
         const auto f = parse(deep);

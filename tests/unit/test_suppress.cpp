@@ -284,3 +284,14 @@ TEST_CASE("baseline: findings survive a shifted file; a new mistake is reported"
     CHECK_THROWS(parse_baseline("not json", "x"));
     fs::remove_all(dir);
 }
+
+TEST_CASE("baseline: a version other than 1 is rejected, however large") {
+    for (const char* v : {"4294967297", "18446744073709551617", "-4294967295", "1.0", "\"1\"", "0", "2"}) {
+        const std::string text = std::string("{\"version\": ") + v + ", \"entries\": []}";
+        CHECK_THROWS_WITH_AS(parse_baseline(text, "b.json"), doctest::Contains("unsupported version"),
+                             std::runtime_error);
+    }
+    CHECK_THROWS_WITH_AS(parse_baseline("{\"entries\": []}", "b.json"), doctest::Contains("no \"version\""),
+                         std::runtime_error);
+    CHECK(parse_baseline("{\"version\": 1, \"entries\": []}", "b.json").entries.empty());
+}

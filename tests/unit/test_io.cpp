@@ -1,0 +1,153 @@
+// Reading input (support/io.h): a line longer than kMaxLineLength stops the
+// reading with a message naming the line, in the line stream, the outline,
+// the copy of standard input and a whole check; memory never grows with it.
+// Writing a file atomically: replaced whole or not at all.
+#include <doctest/doctest.h>
+
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "api/check.h"
+#include "support/io.h"
+#include "syntax/outline.h"
+
+using namespace osplint;
+
+TEST_CASE("a line longer than kMaxLineLength stops the line stream") {
+    for (size_t chunk : {size_t(7), size_t(64) << 10, size_t(4) << 20}) {
+        const std::string ok_line(kMaxLineLength, 'X');
+        const std::string text = "G0\r\n" + ok_line + "\n" + std::string(kMaxLineLength + 1, 'Y') + "\nG1\n";
+        MemorySource src(text);
+        LineStream ls(src, chunk);
+        LineRef l;
+        REQUIRE(ls.next(l));
+        REQUIRE(ls.next(l));
+        CHECK(l.text.size() == kMaxLineLength);
+        CHECK_FALSE(ls.next(l));
+        CHECK(ls.error());
+        CHECK(ls.stop_reason() == line_too_long_message(3));
+    }
+}
+
+TEST_CASE("a line longer than kMaxLineLength is an input error of the outline and of the check") {
+    const std::string text = "O1\nG0\n" + std::string(3 * kMaxLineLength, '\0');
+    MemorySource src(text);
+    const FileOutline o = outline_file(src);
+    CHECK(o.error == line_too_long_message(3));
+    const FileResult r = check_text("LONG.MIN", text, Config{});
+    CHECK(r.io_error == line_too_long_message(3));
+    CHECK(line_too_long_message(3).find("line 3 is longer than") == 0);
+}
+
+TEST_CASE("the copy of standard input stops at a line longer than kMaxLineLength") {
+    ::signal(SIGPIPE, SIG_IGN);  // the writer finds the pipe closed
+    int fds[2];
+    REQUIRE(::pipe(fds) == 0);
+    // Lines end with LF, CRLF and a lone CR (the CR of a CRLF at the end of a read too).
+    std::thread writer([w = fds[1]] {
+        const std::string head = "A\r\nB\rC\n";
+        (void)!::write(w, head.data(), head.size());
+        const std::string zeros(64 << 10, '\0');
+        for (size_t sent = 0; sent < 4 * kMaxLineLength; sent += zeros.size())
+            if (::write(w, zeros.data(), zeros.size()) < 0) break;
+        ::close(w);
+    });
+    std::string error;
+    const int fd = spool_to_temporary_file(fds[0], error);
+    ::close(fds[0]);  // the writer then fails, and ends
+    writer.join();
+    CHECK(fd < 0);
+    CHECK(error == line_too_long_message(4));
+}
+
+namespace {
+
+std::string slurp(const std::string& path) {
+    std::string out;
+    FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return "(missing)";
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) out.append(buf, n);
+    std::fclose(f);
+    return out;
+}
+
+// The names in a directory other than `keep`.
+std::vector<std::string> others(const std::filesystem::path& dir, const std::string& keep) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.path().filename() != keep) names.push_back(e.path().filename().string());
+    return names;
+}
+
+}  // namespace
+
+TEST_CASE("write_file_atomically: replaces the file, keeps its permissions, leaves nothing behind") {
+    const auto dir = std::filesystem::temp_directory_path() / ("osplint-atomic-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "b.json").string();
+    std::string error;
+    REQUIRE(write_file_atomically(path, "first", error));
+    CHECK(slurp(path) == "first");
+    ::chmod(path.c_str(), 0640);
+    REQUIRE(write_file_atomically(path, "second", error));
+    CHECK(slurp(path) == "second");
+    struct stat st;
+    REQUIRE(::stat(path.c_str(), &st) == 0);
+    CHECK((st.st_mode & 0777) == 0640);
+    CHECK(others(dir, "b.json").empty());
+
+    SUBCASE("a planted link where a temporary file could be is never followed") {
+        const std::string victim = (dir / "victim").string();
+        for (const char* name : {"b.json.tmp", ".b.json.tmp"})
+            std::filesystem::create_symlink(victim, dir / name);
+        REQUIRE(write_file_atomically(path, "third", error));
+        CHECK(slurp(path) == "third");
+        CHECK_FALSE(std::filesystem::exists(victim));
+    }
+    SUBCASE("a write that fails leaves the file as it was and no temporary file") {
+        ::signal(SIGXFSZ, SIG_IGN);
+        struct rlimit old;
+        REQUIRE(::getrlimit(RLIMIT_FSIZE, &old) == 0);
+        struct rlimit small = old;
+        small.rlim_cur = 3;
+        REQUIRE(::setrlimit(RLIMIT_FSIZE, &small) == 0);
+        const bool ok = write_file_atomically(path, "a longer text than the limit", error);
+        ::setrlimit(RLIMIT_FSIZE, &old);
+        CHECK_FALSE(ok);
+        CHECK(error.find("write error") == 0);
+        CHECK(slurp(path) == "second");
+        CHECK(others(dir, "b.json").empty());
+    }
+    SUBCASE("a directory in the way: an error, and no temporary file") {
+        const std::string sub = (dir / "sub").string();
+        std::filesystem::create_directories(dir / "sub" / "inner");
+        CHECK_FALSE(write_file_atomically(sub, "x", error));
+        CHECK(error.find("cannot replace it") == 0);
+        CHECK(others(dir, "b.json") == std::vector<std::string>{"sub"});
+        CHECK_FALSE(write_file_atomically((dir / "missing" / "b.json").string(), "x", error));
+        CHECK(error.find("cannot create a temporary file") == 0);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a UTF-16 file is said to be UTF-16, not a syntax error on every line") {
+    const std::string le("\xFF\xFEO\0001\0\n\0G\0000\0 \0X\0001\0\n\0", 18);
+    const std::string be("\xFE\xFF\0O\0001\0\n", 8);
+    for (const std::string& text : {le, be}) {
+        const FileResult r = check_text("U16.MIN", text, Config{});
+        CHECK(r.io_error == kUtf16Message);
+        CHECK(r.diagnostics.empty());
+    }
+    // A UTF-8 byte order mark is read as usual.
+    CHECK(check_text("U8.MIN", "\xEF\xBB\xBFO1\nG0 X1\nM30\n", Config{}).io_error.empty());
+}
