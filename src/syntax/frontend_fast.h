@@ -1,5 +1,5 @@
 // The fast front end: a hand-written lexer and block parser for the common
-// block shapes of part programs, used by the batch path (analyzer/stream.h).
+// block shapes of part programs, used by the engine's walk (engine/engine.cpp).
 //
 // The tree-sitter grammar (grammar/) stays the single definition of the syntax.
 // The hand-written parser recognises a subset of it — the lines CAM
