@@ -30,7 +30,9 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (v.block.sequence && ctx.is_jump_target(v.block.sequence->name)) {
             Defs& d = defs_[v.block.sequence->name];
-            if (d.ranges.size() < kNotedDefinitions) d.ranges.push_back(v.block.sequence->range);
+            // Resolved now, while the block is in hand: at the program's end the
+            // engine would have to read back to it for each note.
+            if (d.places.size() < kNotedDefinitions) d.places.push_back(ctx.resolve(v.block.sequence->range));
             ++d.count;
         }
         for (const auto& st : v.block.statements)
@@ -43,17 +45,17 @@ public:
             if (it == defs_.end() || it->second.count < 2) continue;
             const Defs& d = it->second;
             std::string lines;
-            for (size_t i = 0; i < d.ranges.size(); ++i) {
-                if (i) lines += i + 1 == d.ranges.size() && d.count == d.ranges.size() ? " and " : ", ";
-                lines += std::to_string(ctx.resolve(d.ranges[i]).start.line);
+            for (size_t i = 0; i < d.places.size(); ++i) {
+                if (i) lines += i + 1 == d.places.size() && d.count == d.places.size() ? " and " : ", ";
+                lines += std::to_string(d.places[i].start.line);
             }
-            if (d.count > d.ranges.size()) lines += " and " + std::to_string(d.count - d.ranges.size()) + " more";
+            if (d.count > d.places.size()) lines += " and " + std::to_string(d.count - d.places.size()) + " more";
             auto& diag = ctx.report(kMeta, j.range,
                                     "jump target " + j.name + " is defined " + std::to_string(d.count) +
                                         " times in this program (lines " + lines +
                                         "): the manuals do not say which of them the control reaches, so "
                                         "osplint follows the jump to every one of them");
-            for (const ByteRange& r : d.ranges) diag.notes.push_back({j.name + " defined here", ctx.resolve(r)});
+            for (const SourceRange& r : d.places) diag.notes.push_back({j.name + " defined here", r});
             diag.notes.push_back({"give each block a name of its own, or jump to a name defined once", std::nullopt});
         }
         jumps_.clear();
@@ -62,7 +64,7 @@ public:
 
 private:
     struct Defs {
-        std::vector<ByteRange> ranges;  // the first kNotedDefinitions
+        std::vector<SourceRange> places;  // the first kNotedDefinitions
         size_t count = 0;
     };
     struct Jump {
