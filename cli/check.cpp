@@ -1,13 +1,19 @@
 // `osplint check`: the batch path for CAM pre-flight and CI.
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
 #include <map>
@@ -18,9 +24,11 @@
 #include <fmt/format.h>
 
 #include "output/baseline.h"
+#include "output/diff.h"
 #include "support/errors.h"
 #include "api/check.h"
 #include "api/config.h"
+#include "api/fix.h"
 #include "engine/workspace.h"
 #include "output/ordered.h"
 #include "output/pipeline.h"
@@ -57,6 +65,13 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
                  "Print how many findings each rule made (text) instead of the findings; no folding, no limit");
     cmd.add_option("--output-file,-o", o.output_file, "Write the report to this file instead of standard output");
     cmd.add_flag("-q,--quiet", o.quiet, "Print the findings only: no summary line, no notes on standard error");
+    cmd.add_flag("--fix", o.fix,
+                 "Apply the safe fixes to the files (atomically; a file with syntax errors is left as it is), then "
+                 "report what is left; for stdin, print the fixed program");
+    cmd.add_flag("--unsafe-fixes", o.unsafe_fixes, "With --fix or --diff: apply the unsafe fixes too");
+    cmd.add_flag("--diff", o.diff,
+                 "Print the fixes --fix would apply as a unified diff (for patch -p1 or git apply) and change "
+                 "nothing; exit code 1 when there is something to fix");
     cmd.add_option("--fold", o.fold,
                    "Show at most N findings of one kind (rule and message) per file, and the others as a count "
                    "(default 10; 0 shows every one)");
@@ -109,10 +124,10 @@ std::string describe(const EngineStats& s) {
 // path order and identical whatever the number of workers, and memory does not
 // grow with the findings. Returns an error when the workers could not all be
 // started (the files are then checked by those that were).
-std::string check_files(const std::vector<std::string>& files, const std::vector<std::shared_ptr<Config>>& configs,
-                        const std::vector<std::string>& not_checked, const std::string& stdin_name,
-                        int stdin_fd, const std::string& stdin_error,
-                        const AnalysisOptions& options, unsigned jobs,
+// `check_one(i, options, sink)` checks file i.
+using CheckOne = std::function<void(size_t, const AnalysisOptions&, DiagnosticSink&)>;
+std::string check_files(const std::vector<std::string>& files, const std::string& stdin_name,
+                        const CheckOne& check_one, const AnalysisOptions& options, unsigned jobs,
                         OrderedOutput& out, bool progress, bool report_stats) {
     std::atomic<size_t> next{0};
     std::atomic<size_t> done{0};
@@ -126,13 +141,7 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
                 AnalysisOptions mine = options;
                 EngineStats stats;
                 if (report_stats) mine.stats = &stats;
-                if (!not_checked[i].empty() || (files[i] == "-" && stdin_fd < 0)) {
-                    sink.begin_file(path);
-                    sink.end_file(path, not_checked[i].empty() ? stdin_error : not_checked[i]);
-                } else if (files[i] == "-") {
-                    check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
-                }
-                else check_path(files[i], *configs[i], mine, sink);
+                check_one(i, mine, sink);
                 if (report_stats) {
                     std::lock_guard<std::mutex> lock(mu);
                     std::cerr << "osplint: " << path << ": " << describe(stats) << "\n";
@@ -165,6 +174,121 @@ std::string check_files(const std::vector<std::string>& files, const std::vector
     if (progress) return run_on_threads(n, worker, show_progress);
     return run_on_threads(n - 1, worker, worker);
 }
+
+// What --fix or --diff did to one file.
+struct FixOutcome {
+    uint64_t fixes = 0;      // fixes applied (or, with --diff, that would be)
+    std::string note;        // why the file was left as it is (a state of the program)
+    std::string error;       // what went wrong (exit code 2)
+    std::unique_ptr<Spool> diff;  // --diff: the file's diff
+    DiffStats stats;
+};
+
+// Plans the fixes of a program read from `fd` (its state `before`); with
+// `diff`, renders them as a diff, else hands the fixed text to `write`.
+void fix_program(int fd, const struct stat& before, const std::string& path, const Config& config,
+                 const AnalysisOptions& options, bool unsafe, bool diff,
+                 const std::function<bool(FdSource&, const std::vector<Edit>&, std::string&)>& write,
+                 FixOutcome& out) {
+    FdSource src(fd, static_cast<uint64_t>(before.st_size));
+    FixPlan plan = plan_fixes(path, src, config, options, unsafe);
+    if (!plan.refused.empty()) {
+        (plan.failed ? out.error : out.note) = plan.refused;
+        return;
+    }
+    if (plan.edits.empty()) return;
+    std::string error;
+    if (diff) {
+        out.diff = std::make_unique<Spool>(size_t(1) << 16);
+        if (!write_unified_diff(src, plan.edits, path, [&](std::string_view piece) { return out.diff->append(piece); },
+                                error, &out.stats)) {
+            out.error = "the diff could not be made: " + (out.diff->error().empty() ? error : out.diff->error());
+            out.diff.reset();
+            return;
+        }
+    } else if (!write(src, plan.edits, error)) {
+        out.error = "not fixed: " + error;
+        return;
+    }
+    out.fixes = plan.fixes;
+}
+
+// --fix / --diff for a file on disk: the fixes are planned on the file as it
+// is, and written over it atomically (through a symbolic link, to its
+// target), unless it changed meanwhile. What cannot be opened is left to the
+// check to report.
+void fix_file(const std::string& path, const Config& config, const AnalysisOptions& options, bool unsafe, bool diff,
+              FixOutcome& out) {
+    std::error_code ec;
+    const fs::path target = fs::canonical(path, ec);
+    if (ec) return;
+    const int fd = ::open(target.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    struct stat before;
+    if (::fstat(fd, &before) != 0 || !S_ISREG(before.st_mode) ||
+        static_cast<uint64_t>(before.st_size) > kMaxInputSize) {
+        ::close(fd);
+        return;
+    }
+    auto write = [&](FdSource& src, const std::vector<Edit>& edits, std::string& error) {
+        struct stat now;
+        if (::stat(target.c_str(), &now) != 0 || now.st_ino != before.st_ino || now.st_dev != before.st_dev ||
+            now.st_size != before.st_size || now.st_mtim.tv_sec != before.st_mtim.tv_sec ||
+            now.st_mtim.tv_nsec != before.st_mtim.tv_nsec) {
+            error = "it changed while it was being checked";
+            return false;
+        }
+        return write_file_atomically(
+            target.string(), [&](const PieceWriter& put) { return apply_edits(src, edits, put, error); }, error);
+    };
+    fix_program(fd, before, path, config, options, unsafe, diff, write, out);
+    ::close(fd);
+}
+
+// --fix / --diff for standard input (already in the temporary file `fd`):
+// with --fix the fixed program is printed on standard output and `fd`
+// becomes a temporary file of it, which the check then reads.
+void fix_stdin(int& fd, const std::string& path, const Config& config, const AnalysisOptions& options, bool unsafe,
+               bool diff, FixOutcome& out) {
+    struct stat before;
+    if (fd < 0 || ::fstat(fd, &before) != 0) return;
+    int fixed_fd = -1;
+    auto write = [&](FdSource& src, const std::vector<Edit>& edits, std::string& error) {
+        std::FILE* f = std::tmpfile();
+        if (!f) {
+            error = std::string("cannot create a temporary file: ") + std::strerror(errno);
+            return false;
+        }
+        const bool ok = apply_edits(src, edits, [&](std::string_view piece) {
+            return std::fwrite(piece.data(), 1, piece.size(), f) == piece.size();
+        }, error) && std::fflush(f) == 0;
+        if (ok) fixed_fd = ::dup(fileno(f));
+        std::fclose(f);
+        return ok && fixed_fd >= 0;
+    };
+    fix_program(fd, before, path, config, options, unsafe, diff, write, out);
+    if (diff) return;
+    if (fixed_fd >= 0) {
+        ::close(fd);
+        fd = fixed_fd;
+    }
+    // The program, fixed or as it was, on standard output.
+    std::vector<char> buf(size_t(1) << 20);
+    for (uint64_t off = 0;;) {
+        const int64_t r = pread_full(fd, off, buf.data(), buf.size());
+        if (r <= 0) break;
+        std::cout.write(buf.data(), r);
+        off += static_cast<uint64_t>(r);
+    }
+    std::cout.flush();
+    if (!std::cout) out.error = "the fixed program could not be written to standard output";
+}
+
+// Takes the findings and keeps none (--diff: the diff is the report).
+class NullSink final : public DiagnosticSink {
+public:
+    void diagnostic(Diagnostic&&) override {}
+};
 
 // --statistics: how many findings each rule made, in place of the findings.
 class RuleStatistics final : public DiagnosticSink {
@@ -209,12 +333,21 @@ private:
 int run_check(const CheckOptions& o) {
     validate_selection(o);
     if (o.statistics && o.format != "text") throw std::runtime_error("--statistics prints text: it takes no --format");
+    if (o.diff && (o.format != "text" || o.statistics || !o.baseline.empty() || !o.write_baseline.empty()))
+        throw std::runtime_error("--diff prints a diff: it takes no --format, --statistics, --baseline or --write-baseline");
+    const bool fixing = o.fix || o.diff;
+    const bool fix_writes = o.fix && !o.diff;  // --fix --diff shows the diff and writes nothing
     std::ofstream output_file;
     if (!o.output_file.empty()) {
         output_file.open(o.output_file, std::ios::binary | std::ios::trunc);
         if (!output_file) throw std::runtime_error("cannot write the report to " + o.output_file);
     }
-    std::ostream& report = o.output_file.empty() ? std::cout : output_file;
+    // `--fix -` prints the fixed program on standard output: the report then goes to standard error.
+    const bool program_on_stdout =
+        fix_writes && o.output_file.empty() && std::find(o.paths.begin(), o.paths.end(), "-") != o.paths.end();
+    std::ostream& report = !o.output_file.empty() ? static_cast<std::ostream&>(output_file)
+                           : program_on_stdout    ? std::cerr
+                                                  : std::cout;
     std::vector<std::string> errors;
     std::vector<std::string> files = expand_paths(o.paths, errors);
     const std::string stdin_name = o.stdin_filename.empty() ? std::string("<stdin>") : o.stdin_filename;
@@ -329,7 +462,7 @@ int run_check(const CheckOptions& o) {
     // counting, folding, the limit, the writer(s).
     const Format format = *parse_format(o.format);
     WriterOptions wo;
-    wo.color = use_color(format == Format::Github ? STDERR_FILENO : STDOUT_FILENO);
+    wo.color = use_color(format == Format::Github || program_on_stdout ? STDERR_FILENO : STDOUT_FILENO);
     wo.sarif_root = fs::current_path();
     if (!o.output_file.empty()) wo.color = false;
     std::unique_ptr<ReportWriter> writer = make_writer(format, report, wo);
@@ -337,7 +470,10 @@ int run_check(const CheckOptions& o) {
     std::unique_ptr<TeeSink> tee;
     DiagnosticSink* tail = writer.get();
     RuleStatistics statistics;
-    if (o.statistics) {
+    NullSink discard;
+    if (o.diff) {
+        tail = &discard;  // the diff is the report
+    } else if (o.statistics) {
         tail = &statistics;
     } else if (format == Format::Github) {
         log = make_writer(Format::Text, std::cerr, wo);
@@ -368,15 +504,63 @@ int run_check(const CheckOptions& o) {
     OrderedOutput ordered(*head, files.size());
     const bool progress = !o.quiet && files.size() > 20 && isatty(STDERR_FILENO) &&
                           (!o.output_file.empty() || !isatty(STDOUT_FILENO));
+    // --fix / --diff: each file's fixes are planned (and, with --fix,
+    // written) by the worker that then checks it; stdin first, here.
+    std::vector<FixOutcome> outcomes(fixing ? files.size() : 0);
+    if (fixing)
+        for (size_t i = 0; i < files.size(); ++i)
+            if (files[i] == "-" && not_checked[i].empty() && stdin_fd >= 0)
+                fix_stdin(stdin_fd, stdin_name, *configs[i], options, o.unsafe_fixes, o.diff, outcomes[i]);
+    const CheckOne check_one = [&](size_t i, const AnalysisOptions& mine, DiagnosticSink& sink) {
+        const std::string path = files[i] == "-" ? stdin_name : files[i];
+        if (!not_checked[i].empty() || (files[i] == "-" && stdin_fd < 0)) {
+            sink.begin_file(path);
+            sink.end_file(path, not_checked[i].empty() ? stdin_error : not_checked[i]);
+            return;
+        }
+        if (fixing && files[i] != "-") fix_file(files[i], *configs[i], mine, o.unsafe_fixes, o.diff, outcomes[i]);
+        if (o.diff) {  // nothing to report but what could not be read
+            sink.begin_file(path);
+            sink.end_file(path, "");
+            return;
+        }
+        if (files[i] == "-") check_fd(stdin_fd, stdin_name, *configs[i], mine, sink);
+        else check_path(files[i], *configs[i], mine, sink);
+    };
     const std::string pool_error =
-        check_files(files, configs, not_checked, stdin_name, stdin_fd, stdin_error, options, o.jobs, ordered, progress,
-                    o.engine_stats);
+        check_files(files, stdin_name, check_one, options, o.jobs, ordered, progress, o.engine_stats);
     if (stdin_fd >= 0) ::close(stdin_fd);
+    uint64_t fixes = 0, fixed_files = 0;
+    DiffStats diff_total;
+    for (size_t i = 0; i < outcomes.size(); ++i) {
+        auto& f = outcomes[i];
+        const std::string& path = files[i] == "-" ? stdin_name : files[i];
+        if (f.fixes) ++fixed_files;
+        fixes += f.fixes;
+        if (f.diff) {
+            diff_total.hunks += f.stats.hunks;
+            diff_total.added += f.stats.added;
+            diff_total.removed += f.stats.removed;
+            if (!f.diff->drain([&](std::string_view piece) { report.write(piece.data(), static_cast<std::streamsize>(piece.size())); }))
+                errors.push_back(path + ": the diff could not be read back: " + f.diff->error());
+        }
+        if (!f.error.empty()) errors.push_back(path + ": " + f.error);
+        if (!f.note.empty() && !o.quiet) std::cerr << "osplint: " << path << ": not fixed: " << f.note << "\n";
+    }
+    if (fixing && !o.quiet) {
+        auto plural = [](uint64_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); };
+        if (o.diff)
+            std::cerr << "osplint: " << plural(fixes, "fix", "fixes") << " in " << plural(fixed_files, "file", "files")
+                      << (fixes ? " would be applied (" + plural(diff_total.hunks, "hunk", "hunks") + ")" : " to apply") << "\n";
+        else
+            std::cerr << "osplint: applied " << plural(fixes, "fix", "fixes") << " in " << plural(fixed_files, "file", "files")
+                      << "\n";
+    }
     if (o.statistics) statistics.write(report);
     // --quiet: the text formats' summary line is left out; JSON and SARIF
     // end their document.
     const bool summary_only = format == Format::Text || format == Format::Github;
-    if (!(o.quiet && summary_only)) writer->finish(counts);
+    if (!(o.quiet && summary_only) && !o.diff) writer->finish(counts);
     if (log && !o.quiet) log->finish(counts);
     report.flush();
     if (!o.output_file.empty() && !output_file) errors.push_back("the report could not be written to " + o.output_file);
@@ -403,6 +587,7 @@ int run_check(const CheckOptions& o) {
     for (const auto& e : errors) std::cerr << "osplint: " << e << "\n";
 
     if (io_failed) return 2;
+    if (o.diff) return fixes ? 1 : 0;
     if (o.fail_on == "never") return 0;
     return counts.at_least(*parse_severity(o.fail_on)) > 0 ? 1 : 0;
 }

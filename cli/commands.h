@@ -27,6 +27,9 @@ struct CheckOptions {
     bool statistics = false;     // --statistics: the number of findings of each rule instead of the findings
     std::string output_file;     // --output-file: the report goes there instead of standard output
     bool quiet = false;          // --quiet: the findings only (no summary, no notes)
+    bool fix = false;            // --fix: apply the safe fixes to the files, then report what is left
+    bool unsafe_fixes = false;   // --unsafe-fixes: --fix and --diff apply the unsafe fixes too
+    bool diff = false;           // --diff: print the fixes as a unified diff, change nothing
 };
 void add_check_options(CLI::App& cmd, CheckOptions& o);
 int run_check(const CheckOptions& o);

@@ -27,6 +27,7 @@ public:
                                macro::common_ref(ctx.catalog(), *spec, "M52") + ")",
                            std::nullopt});
         Fix fix;
+        fix.safe = true;  // what the manual asks for, with the same meaning
         if (const MacroArg* pm = c->arg("PM"); pm && pm->word) {
             // PM is already there: drop the M52 (and the blank before it).
             fix.title = "Remove M52 (PM is already given)";

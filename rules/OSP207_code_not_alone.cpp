@@ -44,6 +44,7 @@ public:
             std::string eol = "\n";
             if (line.size() > b.range.size() && at(b.range.end) == '\r') eol = "\r\n";
             Fix fix;
+            fix.safe = true;  // what the manual asks for, with the same meaning
             fix.title = "Move " + code + " to a line of its own";
             if (start) {
                 fix.edits.push_back({ctx.resolve(ByteRange{b.range.begin, b.range.begin}), indent + code + eol});

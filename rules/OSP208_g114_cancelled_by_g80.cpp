@@ -44,7 +44,9 @@ public:
         if (!c->start_range.empty()) d.notes.push_back({g + " mode starts here", ctx.resolve(c->start_range)});
         if (code.empty()) return;
         // Replace G80 by the cancel code; when the block already has other
-        // words, the cancel code takes G80's place on it.
+        // words, the cancel code takes G80's place on it. Unsafe: the cancel
+        // macro does more than G80 (it restores the overrides), which is the
+        // point, but it changes what the machine does.
         Fix fix;
         fix.title = "Replace G80 by " + code;
         fix.edits.push_back({ctx.resolve(g80->range), code});

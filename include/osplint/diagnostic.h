@@ -66,6 +66,11 @@ struct TextEdit {
 struct Fix {
     std::string title;  // "Replace M52 by PM=52"
     std::vector<TextEdit> edits;
+    // A safe fix keeps what the program means and only makes it what the
+    // manual asks for; `check --fix` applies it. An unsafe fix changes what
+    // the machine does (another cancel code, another mode) and is applied
+    // only with `--unsafe-fixes`; editors offer both.
+    bool safe = false;
 };
 
 struct Note {

@@ -21,6 +21,10 @@
 
 namespace osplint {
 
+// The rule that reports what does not parse: every other rule trusts the
+// syntax it reads, so a file with its findings is never fixed.
+inline constexpr std::string_view kSyntaxErrorRule = "OSP001";
+
 class Catalog;
 struct Config;
 

@@ -62,7 +62,7 @@ json to_lsp_diagnostic(const Diagnostic& d, const std::string& uri, Encoding enc
     for (const auto& f : d.fixes) {
         json edits = json::array();
         for (const auto& e : f.edits) edits.push_back({{"range", range(e.range)}, {"newText", e.replacement}});
-        fixes.push_back({{"title", f.title}, {"edits", std::move(edits)}});
+        fixes.push_back({{"title", f.title}, {"safe", f.safe}, {"edits", std::move(edits)}});
     }
     out["data"] = {{"version", version}, {"fixes", std::move(fixes)}};
     return out;
@@ -662,10 +662,12 @@ json code_actions(const std::string& uri, const json& params, const SourceText& 
                     }
                     if (!ok || edits.empty()) continue;
                     std::string title = string_field(f, "title");
+                    // The preferred action (applied by "fix all" in editors) is a safe fix only.
+                    const bool safe = f.contains("safe") && f["safe"].is_boolean() && f["safe"].get<bool>();
                     actions.push_back({{"title", title.empty() ? std::string("Apply the fix") : title},
                                        {"kind", "quickfix"},
                                        {"diagnostics", json::array({diag})},
-                                       {"isPreferred", first},
+                                       {"isPreferred", first && safe},
                                        {"edit", {{"changes", {{uri, std::move(edits)}}}}}});
                     first = false;
                 }

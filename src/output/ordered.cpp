@@ -77,6 +77,7 @@ void encode_diagnostic(std::string& out, const Diagnostic& d) {
     put_u64(out, d.fixes.size());
     for (const auto& f : d.fixes) {
         put_str(out, f.title);
+        put_u64(out, f.safe ? 1 : 0);
         put_u64(out, f.edits.size());
         for (const auto& e : f.edits) {
             put_range(out, e.range);
@@ -102,7 +103,9 @@ bool decode_diagnostic(std::string_view& in, Diagnostic& d) {
     if (!get_u64(in, n)) return false;
     d.fixes.resize(n);
     for (auto& f : d.fixes) {
-        if (!get_str(in, f.title) || !get_u64(in, n)) return false;
+        uint64_t safe = 0;
+        if (!get_str(in, f.title) || !get_u64(in, safe) || !get_u64(in, n)) return false;
+        f.safe = safe != 0;
         f.edits.resize(n);
         for (auto& e : f.edits)
             if (!get_range(in, e.range) || !get_str(in, e.replacement)) return false;

@@ -34,6 +34,10 @@ public:
         // A finding the engine folded others into stands for them too.
         counts_.add(d.severity, 1 + d.folded);
         counts_.folded += d.folded;
+        bool safe = false;
+        for (const auto& f : d.fixes) safe = safe || f.safe;
+        if (safe) ++counts_.fixable;
+        else if (!d.fixes.empty()) ++counts_.unsafe_fixable;
         next_.diagnostic(std::move(d));
     }
     void suppressed(SuppressedDiagnostic&& s) override {

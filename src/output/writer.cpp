@@ -150,7 +150,7 @@ ojson diagnostic_json(const Diagnostic& d) {
     for (const auto& f : d.fixes) {
         ojson edits = ojson::array();
         for (const auto& e : f.edits) edits.push_back({{"range", range_json(e.range)}, {"replacement", e.replacement}});
-        fixes.push_back({{"title", f.title}, {"edits", std::move(edits)}});
+        fixes.push_back({{"title", f.title}, {"safe", f.safe}, {"edits", std::move(edits)}});
     }
     ojson j = {{"rule", d.rule},
                {"name", d.name},
@@ -215,7 +215,9 @@ public:
                            {"warning", c.warning},
                            {"info", c.info},
                            {"suppressed", c.suppressed},
-                           {"folded", c.folded}})
+                           {"folded", c.folded},
+                           {"fixable", c.fixable},
+                           {"unsafe_fixable", c.unsafe_fixable}})
              << "}\n";
     }
 
@@ -387,7 +389,8 @@ private:
                     replacements.push_back({{"deletedRegion", region(e.range)}, {"insertedContent", {{"text", e.replacement}}}});
                 fixes.push_back({{"description", {{"text", f.title}}},
                                  {"artifactChanges", ojson::array({{{"artifactLocation", artifact_},
-                                                                    {"replacements", std::move(replacements)}}})}});
+                                                                    {"replacements", std::move(replacements)}}})},
+                                 {"properties", {{"safe", f.safe}}}});
             }
             res["fixes"] = std::move(fixes);
         }
@@ -436,7 +439,8 @@ std::string render_text_diagnostic(const std::string& path, const Diagnostic& d,
         else
             out += fmt::format("{} {} ={} note: {}\n", blue, pad, reset, printable(n.message, true));
     }
-    for (const auto& f : d.fixes) out += fmt::format("{} {} ={} fix: {}\n", blue, pad, reset, printable(f.title, true));
+    for (const auto& f : d.fixes)
+        out += fmt::format("{} {} ={} fix{}: {}\n", blue, pad, reset, f.safe ? "" : " (unsafe)", printable(f.title, true));
     if (explain_hint)
         out += fmt::format("{} {} ={} (run \"osplint explain {}\" for more)\n", blue, pad, reset, printable(d.rule, true));
     return out;
@@ -447,6 +451,10 @@ std::string render_summary(const Counts& s) {
     std::string out = fmt::format("{}, {}, {} in {}", plural(s.error, "error"), plural(s.warning, "warning"),
                                   plural(s.info, "info"), plural(s.files, "file"));
     if (s.folded) out += fmt::format(" ({} of them folded into the findings shown)", s.folded);
+    if (s.fixable || s.unsafe_fixable) {
+        out += fmt::format("; {} fixable with --fix", s.fixable);
+        if (s.unsafe_fixable) out += fmt::format(" ({} more with --unsafe-fixes)", s.unsafe_fixable);
+    }
     return out + "\n";
 }
 

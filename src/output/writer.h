@@ -30,6 +30,8 @@ struct Counts {
     uint64_t suppressed = 0;
     uint64_t folded = 0;        // findings shown only as a count (--fold, --max-findings)
     uint64_t unreadable = 0;    // files that could not be read
+    uint64_t fixable = 0;       // findings shown with a safe fix (`--fix` applies it)
+    uint64_t unsafe_fixable = 0;  // findings shown with an unsafe fix only (`--unsafe-fixes`)
     void add(Severity s, uint64_t n = 1) {
         if (s == Severity::Error) error += n;
         else if (s == Severity::Warning) warning += n;

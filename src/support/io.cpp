@@ -170,6 +170,11 @@ int spool_to_temporary_file(int fd, std::string& error, uint64_t limit) {
 }
 
 bool write_file_atomically(const std::string& path, std::string_view content, std::string& error) {
+    return write_file_atomically(path, [&](const PieceWriter& put) { return put(content); }, error);
+}
+
+bool write_file_atomically(const std::string& path, const std::function<bool(const PieceWriter& put)>& produce,
+                           std::string& error) {
     const size_t slash = path.rfind('/');
     const std::string dir = slash == std::string::npos ? std::string(".") : path.substr(0, slash + 1);
     const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
@@ -195,13 +200,27 @@ bool write_file_atomically(const std::string& path, std::string_view content, st
         mode = 0666 & ~mask;
     }
     if (::fchmod(fd, mode) != 0) return fail("cannot set the permissions of the temporary file");
-    for (size_t done = 0; done < content.size();) {
-        const ssize_t w = ::write(fd, content.data() + done, content.size() - done);
-        if (w < 0) {
-            if (errno == EINTR) continue;
-            return fail("write error");
+    bool write_failed = false;
+    const PieceWriter put = [&](std::string_view piece) {
+        for (size_t done = 0; done < piece.size();) {
+            const ssize_t w = ::write(fd, piece.data() + done, piece.size() - done);
+            if (w < 0) {
+                if (errno == EINTR) continue;
+                write_failed = true;
+                return false;
+            }
+            done += static_cast<size_t>(w);
         }
-        done += static_cast<size_t>(w);
+        return true;
+    };
+    if (!produce(put)) {
+        if (write_failed) return fail("write error");
+        const int saved = errno;
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        errno = saved;
+        if (error.empty()) error = "the content could not be made";
+        return false;
     }
     if (::fsync(fd) != 0) return fail("write error");
     if (::close(fd) != 0) {

@@ -118,6 +118,12 @@ int spool_to_temporary_file(int fd, std::string& error, uint64_t limit = kMaxInp
 // and `error` says why (false is returned). The file keeps the permissions of
 // the one it replaces (new: 0666 less the umask).
 bool write_file_atomically(const std::string& path, std::string_view content, std::string& error);
+// The same, with the content handed over in pieces by `produce`, which
+// calls `put` for each and returns false to give up (nothing is replaced;
+// `error` is left to `produce` to set when it is not a write error).
+using PieceWriter = std::function<bool(std::string_view)>;
+bool write_file_atomically(const std::string& path, const std::function<bool(const PieceWriter& put)>& produce,
+                           std::string& error);
 
 // The first LF or CR in [p, e), or nullptr.
 const char* find_line_break(const char* p, const char* e);
