@@ -116,7 +116,8 @@ mark { background: var(--mark); color: inherit; border-bottom: 2px solid #d18b00
 .sideview { display: grid; grid-template-columns: minmax(260px, 1fr) 2fr; gap: 16px; align-items: start; }
 @media (max-width: 900px) { .sideview { grid-template-columns: 1fr; } }
 .sideview .calls { max-height: 900px; overflow: auto; border: 1px solid var(--line); border-radius: 6px; }
-.sideview .calls td { font-size: 12px; padding: 3px 8px; } .sideview .calls td.code { white-space: nowrap; }
+.sideview .calls td { font-size: 12px; padding: 3px 8px; }
+.sideview .calls td.code, .sideview .calls td:nth-child(2) { white-space: nowrap; }
 .sideview .calls .why { white-space: normal; font-family: "DejaVu Sans", Arial, sans-serif; margin-top: 2px; }
 .sideview .calls tr.travel td { background: var(--error-bg); color: var(--error); }
 .sideview .figure { border: 1px solid var(--line); border-radius: 6px; padding: 6px; background: #fff; overflow: auto; }
