@@ -308,9 +308,15 @@ private:
         return lines;
     }
 
+    // The last line a range covers (not the next line when it ends at its start).
+    static uint32_t last_line(const SourceRange& r) {
+        if (r.end.line > r.start.line && r.end.byte_col == 0) return r.end.line - 1;
+        return std::max(r.end.line, r.start.line);
+    }
+
     static Excerpt excerpt_of(const Diagnostic& d) {
         const uint32_t start = d.range.start.line;
-        const uint32_t end = std::min(std::max(d.range.end.line, start), start + 4);
+        const uint32_t end = std::min(last_line(d.range), start + 4);
         return {start > kHtmlContext ? start - kHtmlContext : 1, end + kHtmlContext};
     }
 
@@ -338,7 +344,7 @@ private:
     static std::string source_table(const Diagnostic& d, const std::map<uint32_t, std::string>& lines) {
         const Excerpt ex = excerpt_of(d);
         const uint32_t start = d.range.start.line;
-        const uint32_t end = std::max(d.range.end.line, start);
+        const uint32_t end = last_line(d.range);
         // The lines read again must be those the finding was made on.
         auto it = lines.find(start);
         const bool have = it != lines.end() &&
@@ -350,7 +356,7 @@ private:
             size_t from = 0, to = 0;
             if (hit) {
                 from = n == start ? d.range.start.byte_col : 0;
-                to = n == end && d.range.end.line >= start ? d.range.end.byte_col : text.size();
+                to = n == end && d.range.end.line == end ? d.range.end.byte_col : text.size();
                 if (n == start && n == end && to < from) to = from;
             }
             s += fmt::format("<tr{}><td class=\"ln\">{}</td><td class=\"code\">{}</td></tr>\n",

@@ -1,5 +1,5 @@
 // Output formats for CI: SARIF structure, gcc lines, GitHub workflow commands
-// and their escaping, the JSON report's suppressed findings.
+// and their escaping, the JSON report's suppressed findings, the HTML page.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -605,4 +605,37 @@ TEST_CASE("html format: a file's findings beyond the cap are counted; without th
     CHECK(page.find("<td class=\"code\"><mark>M52</mark> &lt;1&gt;</td>") != std::string::npos);
     CHECK(occurrences(page, "<td class=\"ln\">") == kHtmlMaxFindings);  // no context lines: the file is not there
     CHECK(page.rfind("</html>\n") == page.size() - 8);
+}
+
+TEST_CASE("html format: the lines around a finding come from the file; a range ending at a line's start stops before it") {
+    namespace fs = std::filesystem;
+    const fs::path file = fs::temp_directory_path() / fs::path("osplint-html-lines-" + std::to_string(::getpid()) + ".MIN");
+    {
+        std::ofstream f(file, std::ios::binary);
+        for (int i = 1; i <= 9; ++i) f << "G0 X" << i << (i == 4 ? "\r\n" : "\n");
+    }
+    std::vector<FileResult> results(1);
+    results[0].path = file.string();
+    Diagnostic d;
+    d.rule = "OSP999";
+    d.name = "test";
+    d.message = "lines 5 and 6";
+    d.range.start.line = 5;
+    d.range.start.byte_col = 3;
+    d.range.end.line = 7;
+    d.range.end.byte_col = 0;
+    d.line_text = "G0 X5";
+    results[0].diagnostics.push_back(d);
+    const std::string page = render_report(results, Format::Html);
+    fs::remove(file);
+    CHECK(page.find("<tr><td class=\"ln\">2</td>") == std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">3</td><td class=\"code\">G0 X3</td></tr>") != std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">4</td><td class=\"code\">G0 X4</td></tr>") != std::string::npos);
+    CHECK(page.find("<tr class=\"hit\"><td class=\"ln\">5</td><td class=\"code\">G0 <mark>X5</mark></td></tr>") !=
+          std::string::npos);
+    CHECK(page.find("<tr class=\"hit\"><td class=\"ln\">6</td><td class=\"code\"><mark>G0 X6</mark></td></tr>") !=
+          std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">7</td><td class=\"code\">G0 X7</td></tr>") != std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">8</td>") != std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">9</td>") == std::string::npos);
 }
