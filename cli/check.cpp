@@ -19,6 +19,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -32,6 +33,7 @@
 #include "engine/workspace.h"
 #include "output/ordered.h"
 #include "output/pipeline.h"
+#include "output/sideview.h"
 #include "output/writer.h"
 #include "cli/commands.h"
 #include "osplint/osplint.h"
@@ -44,8 +46,10 @@ namespace osplint::cli {
 
 void add_check_options(CLI::App& cmd, CheckOptions& o) {
     cmd.add_option("paths", o.paths, "Files, directories (.MIN .SSB .SUB .SDF .LIB .NC) or - for stdin")->required();
-    cmd.add_option("--format", o.format, "Output format: text, json, sarif, gcc or github")
-        ->check(CLI::IsMember({"text", "json", "sarif", "gcc", "github"}));
+    cmd.add_option("--format", o.format,
+                   "Output format: text, json, sarif, gcc, github or html (one page: summary, findings with their "
+                   "lines, cycle-axis side views)")
+        ->check(CLI::IsMember({"text", "json", "sarif", "gcc", "github", "html"}));
     cmd.add_option("--config", o.config, "Configuration file (default: nearest osplint.toml of each file)");
     cmd.add_option("--fail-on", o.fail_on, "Lowest severity that makes the exit code 1")
         ->check(CLI::IsMember({"error", "warning", "info", "never"}));
@@ -122,25 +126,31 @@ std::string describe(const EngineStats& s) {
 // Checks every file on a pool of worker threads, each file's findings handed
 // on through its channel of `out` as the walk makes them: the report is in
 // path order and identical whatever the number of workers, and memory does not
-// grow with the findings. Returns an error when the workers could not all be
-// started (the files are then checked by those that were).
+// grow with the findings. With `side_views` (the HTML report), each walk also
+// records the cycle-axis envelopes of its blocks for the writer (the same walk:
+// the tap is the engine's block observer). Returns an error when the workers
+// could not all be started (the files are then checked by those that were).
 // `check_one(i, options, sink)` checks file i.
 using CheckOne = std::function<void(size_t, const AnalysisOptions&, DiagnosticSink&)>;
-std::string check_files(const std::vector<std::string>& files, const std::string& stdin_name,
-                        const CheckOne& check_one, const AnalysisOptions& options, unsigned jobs,
-                        OrderedOutput& out, bool progress, bool report_stats) {
+std::string check_files(const std::vector<std::string>& files, const std::vector<std::shared_ptr<Config>>& configs,
+                        const std::string& stdin_name, const CheckOne& check_one, const AnalysisOptions& options,
+                        unsigned jobs, OrderedOutput& out, bool progress, bool report_stats, SideViews* side_views) {
     std::atomic<size_t> next{0};
     std::atomic<size_t> done{0};
     std::mutex mu;
     std::condition_variable cv;
     auto worker = [&] {
         for (size_t i; (i = next.fetch_add(1)) < files.size();) {
-            DiagnosticSink& sink = out.channel(i);
+            DiagnosticSink& channel = out.channel(i);
+            std::optional<SideViewTap> tap;
+            if (side_views && configs[i]) tap.emplace(channel, *configs[i], *side_views);
+            DiagnosticSink& sink = tap ? static_cast<DiagnosticSink&>(*tap) : channel;
             const std::string path = files[i] == "-" ? stdin_name : files[i];
             try {
                 AnalysisOptions mine = options;
                 EngineStats stats;
                 if (report_stats) mine.stats = &stats;
+                if (tap) mine.observer = &*tap;
                 check_one(i, mine, sink);
                 if (report_stats) {
                     std::lock_guard<std::mutex> lock(mu);
@@ -465,6 +475,11 @@ int run_check(const CheckOptions& o) {
     wo.color = use_color(format == Format::Github || program_on_stdout ? STDERR_FILENO : STDOUT_FILENO);
     wo.sarif_root = fs::current_path();
     if (!o.output_file.empty()) wo.color = false;
+    SideViews side_views;  // HTML: the cycle-axis pictures of each file, from its walk
+    if (format == Format::Html) {
+        wo.side_views = &side_views;
+        if (std::find(files.begin(), files.end(), "-") != files.end()) wo.stdin_path = stdin_name;
+    }
     std::unique_ptr<ReportWriter> writer = make_writer(format, report, wo);
     std::unique_ptr<ReportWriter> log;  // GitHub: the annotations are for the pull request, the log gets the text
     std::unique_ptr<TeeSink> tee;
@@ -518,7 +533,12 @@ int run_check(const CheckOptions& o) {
             sink.end_file(path, not_checked[i].empty() ? stdin_error : not_checked[i]);
             return;
         }
-        if (fixing && files[i] != "-") fix_file(files[i], *configs[i], mine, o.unsafe_fixes, o.diff, outcomes[i]);
+        if (fixing && files[i] != "-") {
+            AnalysisOptions plain = mine;  // the fix rounds are not the report's walk
+            plain.observer = nullptr;
+            plain.stats = nullptr;
+            fix_file(files[i], *configs[i], plain, o.unsafe_fixes, o.diff, outcomes[i]);
+        }
         if (o.diff) {  // nothing to report but what could not be read
             sink.begin_file(path);
             sink.end_file(path, "");
@@ -528,7 +548,8 @@ int run_check(const CheckOptions& o) {
         else check_path(files[i], *configs[i], mine, sink);
     };
     const std::string pool_error =
-        check_files(files, stdin_name, check_one, options, o.jobs, ordered, progress, o.engine_stats);
+        check_files(files, configs, stdin_name, check_one, options, o.jobs, ordered, progress, o.engine_stats,
+                    format == Format::Html ? &side_views : nullptr);
     if (stdin_fd >= 0) ::close(stdin_fd);
     uint64_t fixes = 0, fixed_files = 0;
     DiffStats diff_total;

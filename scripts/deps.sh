@@ -14,6 +14,7 @@ if [[ ${1:-} == --test ]]; then
              clang libclang-rt-14-dev  # the differential fuzzer (tests/scripts/fuzz_short.sh)
              time  # peak RSS in bench/run.sh
              python3  # the Python example consumer (tests/scripts/install_consumers.sh)
+             chromium  # renders the HTML report headless (tests/scripts/html_report.sh)
   )
   # npm and node for the SARIF validation test (tests/sarif/validate.sh installs
   # Microsoft's SARIF multitool from the npm registry), unless a node

@@ -39,6 +39,9 @@ std::string esc(std::string_view s) {
 
 std::string px(double v) { return fmt::format("{:.2f}", v); }
 
+// A reference to a pattern or gradient of the head.
+std::string url(const std::string& prefix, std::string_view name) { return "url(#" + esc(prefix) + std::string(name) + ")"; }
+
 struct Column {
     std::vector<const Envelope*> members;
     std::vector<TravelViolation> violations;
@@ -127,23 +130,30 @@ Layout make_layout(const std::vector<Column>& columns) {
     return l;
 }
 
-// The XML prologue, the patterns and gradients, the background and the titles.
-void draw_head(std::string& s, const Layout& l, std::string_view title) {
+// The XML prologue (of a picture of its own), the patterns and gradients,
+// the background and the titles.
+void draw_head(std::string& s, const Layout& l, std::string_view title, const SvgOptions& o) {
     const double left = Layout::left;
-    s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    const std::string& id = o.id_prefix;
+    if (o.standalone) s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     s += fmt::format(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
         "font-family=\"DejaVu Sans, Arial, Helvetica, sans-serif\" font-size=\"11\">\n",
         px(l.width), px(l.height), px(l.width), px(l.height));
-    s += "<title>" + esc("osplint trace: " + std::string(title)) + "</title>\n";
-    s += "<defs>\n"
-         "  <pattern id=\"may\" width=\"6\" height=\"6\" patternUnits=\"userSpaceOnUse\" patternTransform=\"rotate(45)\">"
-         "<line x1=\"0\" y1=\"0\" x2=\"0\" y2=\"6\" stroke=\"#7a9cc6\" stroke-width=\"2\"/></pattern>\n"
-         "  <linearGradient id=\"fade-down\" x1=\"0\" y1=\"0\" x2=\"0\" y2=\"1\"><stop offset=\"0\" stop-color=\"#4a78b5\" "
-         "stop-opacity=\"0.85\"/><stop offset=\"1\" stop-color=\"#4a78b5\" stop-opacity=\"0\"/></linearGradient>\n"
-         "  <linearGradient id=\"fade-up\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\"><stop offset=\"0\" stop-color=\"#4a78b5\" "
-         "stop-opacity=\"0.85\"/><stop offset=\"1\" stop-color=\"#4a78b5\" stop-opacity=\"0\"/></linearGradient>\n"
-         "</defs>\n";
+    s += "<title>" + esc(o.standalone ? "osplint trace: " + std::string(title) : std::string(title)) + "</title>\n";
+    s += fmt::format(
+        "<defs>\n"
+        "  <pattern id=\"{0}may\" width=\"6\" height=\"6\" patternUnits=\"userSpaceOnUse\" "
+        "patternTransform=\"rotate(45)\">"
+        "<line x1=\"0\" y1=\"0\" x2=\"0\" y2=\"6\" stroke=\"#7a9cc6\" stroke-width=\"2\"/></pattern>\n"
+        "  <linearGradient id=\"{0}fade-down\" x1=\"0\" y1=\"0\" x2=\"0\" y2=\"1\"><stop offset=\"0\" "
+        "stop-color=\"#4a78b5\" stop-opacity=\"0.85\"/><stop offset=\"1\" stop-color=\"#4a78b5\" "
+        "stop-opacity=\"0\"/></linearGradient>\n"
+        "  <linearGradient id=\"{0}fade-up\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\"><stop offset=\"0\" "
+        "stop-color=\"#4a78b5\" stop-opacity=\"0.85\"/><stop offset=\"1\" stop-color=\"#4a78b5\" "
+        "stop-opacity=\"0\"/></linearGradient>\n"
+        "</defs>\n",
+        esc(id));
     s += fmt::format("<rect x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" fill=\"#ffffff\"/>\n", px(l.width), px(l.height));
     s += fmt::format("<text x=\"{}\" y=\"26\" font-size=\"16\" font-weight=\"bold\">{}</text>\n", px(left - 60),
                      esc(std::string(title)));
@@ -168,6 +178,7 @@ struct Panel {
     double plot_right = 0;
     const TravelLimit* travel = nullptr;
     bool show_min = false, show_max = false;  // the travel limit is near enough to be drawn to scale
+    std::string id;  // prefix of the ids of the patterns and gradients (SvgOptions)
 };
 
 Panel make_panel(const std::vector<Column>& columns, const Config& config, char axis, double panel_top) {
@@ -298,9 +309,9 @@ void draw_bar(std::string& s, const Panel& p, const Envelope& e, const ColumnBox
     // Possible reach (dashed, hatched).
     auto may_rect = [&](double a, double b) {
         double y1 = scale.y(std::max(a, b)), y2 = scale.y(std::min(a, b));
-        s += fmt::format("<rect class=\"may\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"url(#may)\" "
+        s += fmt::format("<rect class=\"may\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{}\" "
                          "stroke=\"#4a78b5\" stroke-dasharray=\"4 3\"/>\n",
-                         px(bx + 3), px(y1), px(bw - 6), px(std::max(0.0, y2 - y1)));
+                         px(bx + 3), px(y1), px(bw - 6), px(std::max(0.0, y2 - y1)), url(p.id, "may"));
     };
     if (e.may_low && e.lowest) may_rect(e.may_low->value, e.lowest->value);
     if (e.may_high && e.highest) may_rect(e.highest->value, e.may_high->value);
@@ -323,10 +334,10 @@ void draw_bar(std::string& s, const Panel& p, const Envelope& e, const ColumnBox
                      "height=\"{}\" fill=\"#4a78b5\" fill-opacity=\"0.35\" stroke=\"#2b4f80\" "
                      "stroke-dasharray=\"3 3\"/>\n",
                      px(bx), px(y1), px(bw), px(std::max(2.0, y2 - y1)));
-    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"url(#fade-down)\"/>\n", px(bx),
-                     px(y2), px(bw), px(std::max(0.0, p.y_bot - y2)));
-    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"url(#fade-up)\"/>\n", px(bx),
-                     px(p.y_top), px(bw), px(std::max(0.0, y1 - p.y_top)));
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{}\"/>\n", px(bx),
+                     px(y2), px(bw), px(std::max(0.0, p.y_bot - y2)), url(p.id, "fade-down"));
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{}\"/>\n", px(bx),
+                     px(p.y_top), px(bw), px(std::max(0.0, y1 - p.y_top)), url(p.id, "fade-up"));
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\" "
                      "fill=\"#2b4f80\">?</text>\n",
                      px(bx + bw / 2), px((y1 + y2) / 2 + 5));
@@ -441,7 +452,7 @@ void draw_panel(std::string& s, const Panel& p, double panel_top) {
 
 // --- Legend --------------------------------------------------------------------------
 
-void draw_legend(std::string& s, const Layout& layout, double panel_top, size_t undrawn) {
+void draw_legend(std::string& s, const Layout& layout, double panel_top, size_t undrawn, const std::string& id) {
     double ly = panel_top + (layout.axes.empty() ? 30 : 0);
     double lx = Layout::left - 60;
     s += fmt::format("<g class=\"legend\">\n<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#ffffff\" "
@@ -480,13 +491,13 @@ void draw_legend(std::string& s, const Layout& layout, double panel_top, size_t 
            "marks: R = R point, Z = Z point, A = PA, T = PT, I = initial point, G71 = M53 level, +lim = M52/PM=52");
     y = next();
     legend(x1, y,
-           fmt::format("<rect x=\"{}\" y=\"{}\" width=\"20\" height=\"12\" fill=\"url(#may)\" stroke=\"#4a78b5\" "
-                       "stroke-dasharray=\"4 3\"/>\n", px(x1), px(y)),
+           fmt::format("<rect x=\"{}\" y=\"{}\" width=\"20\" height=\"12\" fill=\"{}\" stroke=\"#4a78b5\" "
+                       "stroke-dasharray=\"4 3\"/>\n", px(x1), px(y), url(id, "may")),
            "may reach: a stroke of unprinted direction, or a step whose condition is not known");
     y = next();
     legend(x1, y,
-           fmt::format("<rect x=\"{}\" y=\"{}\" width=\"20\" height=\"12\" fill=\"url(#fade-down)\" stroke=\"#2b4f80\" "
-                       "stroke-dasharray=\"3 3\"/>\n", px(x1), px(y)),
+           fmt::format("<rect x=\"{}\" y=\"{}\" width=\"20\" height=\"12\" fill=\"{}\" stroke=\"#2b4f80\" "
+                       "stroke-dasharray=\"3 3\"/>\n", px(x1), px(y), url(id, "fade-down")),
            "? = cannot be bounded: an argument or the start position is not known");
     y = next();
     legend(x1, y, "", "under each column: macro or cycle, line numbers (x4 = four blocks with the same motion)");
@@ -498,7 +509,8 @@ void draw_legend(std::string& s, const Layout& layout, double panel_top, size_t 
 
 }  // namespace
 
-SvgPicture render_motion_svg(const std::vector<Envelope>& envelopes, const Config& config, std::string_view title) {
+SvgPicture render_motion_svg(const std::vector<Envelope>& envelopes, const Config& config, std::string_view title,
+                             const SvgOptions& options) {
     SvgPicture pic;
     size_t undrawn = 0;
     const std::vector<Column> columns = make_columns(envelopes, config, undrawn);
@@ -506,15 +518,16 @@ SvgPicture render_motion_svg(const std::vector<Envelope>& envelopes, const Confi
     const Layout layout = make_layout(columns);
 
     std::string s;
-    draw_head(s, layout, title);
+    draw_head(s, layout, title, options);
     double panel_top = Layout::top;
     for (char axis : layout.axes) {
-        const Panel panel = make_panel(columns, config, axis, panel_top);
+        Panel panel = make_panel(columns, config, axis, panel_top);
+        panel.id = options.id_prefix;
         pic.panels.push_back(panel.scale);
         draw_panel(s, panel, panel_top);
         panel_top += Layout::plot_h + Layout::panel_gap;
     }
-    draw_legend(s, layout, panel_top, undrawn);
+    draw_legend(s, layout, panel_top, undrawn, options.id_prefix);
     s += "</svg>\n";
     pic.svg = std::move(s);
     return pic;

@@ -26,7 +26,16 @@ struct SvgPicture {
     std::vector<SvgPanelScale> panels;
     std::size_t columns = 0;
 };
-SvgPicture render_motion_svg(const std::vector<Envelope>& envelopes, const Config& config, std::string_view title);
+// How the picture is embedded: a file of its own (the XML prologue, a title
+// naming the trace), or inline in an HTML page beside other pictures (no
+// prologue; the ids of its patterns and gradients prefixed so that they stay
+// unique in the page).
+struct SvgOptions {
+    bool standalone = true;
+    std::string id_prefix;
+};
+SvgPicture render_motion_svg(const std::vector<Envelope>& envelopes, const Config& config, std::string_view title,
+                             const SvgOptions& options = {});
 
 
 }  // namespace osplint

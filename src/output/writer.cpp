@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "osplint/osplint.h"
+#include "output/html.h"
 #include "rules/registry.h"
 #include "support/embedded.h"
 #include "support/io.h"
@@ -25,6 +26,7 @@ std::optional<Format> parse_format(std::string_view name) {
     if (name == "sarif") return Format::Sarif;
     if (name == "gcc") return Format::Gcc;
     if (name == "github") return Format::Github;
+    if (name == "html") return Format::Html;
     return std::nullopt;
 }
 
@@ -508,6 +510,7 @@ std::unique_ptr<ReportWriter> make_writer(Format format, std::ostream& out, cons
         case Format::Sarif: return std::make_unique<SarifWriter>(out, options.sarif_root);
         case Format::Gcc: return std::make_unique<GccWriter>(out);
         case Format::Github: return std::make_unique<GithubWriter>(out);
+        case Format::Html: return make_html_writer(out, options);
     }
     return nullptr;
 }

@@ -1,5 +1,6 @@
 // Report writers: the one diagnostic model rendered as text, JSON, SARIF,
-// gcc lines or GitHub workflow commands, written as the findings arrive.
+// gcc lines, GitHub workflow commands or an HTML page (output/html.h),
+// written as the findings arrive.
 //
 // A writer is a DiagnosticSink: it writes each finding when it gets it, so
 // memory does not grow with their number (the JSON report's suppressed
@@ -20,7 +21,7 @@
 
 namespace osplint {
 
-enum class Format { Text, Json, Sarif, Gcc, Github };
+enum class Format { Text, Json, Sarif, Gcc, Github, Html };
 std::optional<Format> parse_format(std::string_view name);
 
 // What a run found, over every finding (folded and omitted ones included).
@@ -42,9 +43,16 @@ struct Counts {
     }
 };
 
+class SideViews;
+
 struct WriterOptions {
     bool color = false;                 // text: ANSI colours
     std::filesystem::path sarif_root;   // SARIF: paths relative to it (%SRCROOT%)
+    // HTML: where the side views of the files are taken from (output/sideview.h;
+    // none when null), and the path standard input is reported under (its
+    // lines cannot be read again: its findings show their own line only).
+    SideViews* side_views = nullptr;
+    std::string stdin_path;
 };
 
 class ReportWriter : public DiagnosticSink {

@@ -1,5 +1,5 @@
 // Output formats for CI: SARIF structure, gcc lines, GitHub workflow commands
-// and their escaping, the JSON report's suppressed findings.
+// and their escaping, the JSON report's suppressed findings, the HTML page.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -7,10 +7,19 @@
 #include <set>
 #include <string>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "output/html.h"
 #include "output/ordered.h"
 #include "output/pipeline.h"
+#include "output/sideview.h"
 #include "output/render.h"
 #include "output/writer.h"
 #include "osplint/osplint.h"
@@ -468,4 +477,165 @@ TEST_CASE("ordered output: a diagnostic survives its binary form, every field") 
     std::string_view cut(bytes.data(), bytes.size() - 3);
     Diagnostic broken;
     CHECK_FALSE(decode_diagnostic(cut, broken));
+}
+
+namespace {
+
+size_t occurrences(const std::string& s, const std::string& what) {
+    size_t n = 0;
+    for (size_t i = s.find(what); i != std::string::npos; i = s.find(what, i + what.size())) ++n;
+    return n;
+}
+
+// The page `osplint check --format html` writes for one file: the writer after
+// the counting stage, the file's walk observed by the side-view tap.
+std::string html_page(const std::string& path, const Config& config) {
+    SideViews views;
+    WriterOptions wo;
+    wo.side_views = &views;
+    std::ostringstream out;
+    auto writer = make_writer(Format::Html, out, wo);
+    Counts counts;
+    CountingSink count(*writer, counts);
+    SideViewTap tap(count, config, views);
+    AnalysisOptions options;
+    options.observer = &tap;
+    check_path(path, config, options, tap);
+    writer->finish(counts);
+    return out.str();
+}
+
+}  // namespace
+
+TEST_CASE("HTML escaping: markup, quotes, control characters and invalid UTF-8") {
+    CHECK(html_escape("<script>alert('x & \"y\"')</script>") ==
+          "&lt;script&gt;alert(&#39;x &amp; &quot;y&quot;&#39;)&lt;/script&gt;");
+    CHECK(html_escape("a\tb\nc") == "a\tb\nc");
+    CHECK(html_escape("a\x01z\x7f") == "a\xEF\xBF\xBDz\xEF\xBF\xBD");
+    CHECK(html_escape("\xC3\xA9 \xF0\x9F\x93\x90") == "\xC3\xA9 \xF0\x9F\x93\x90");  // valid UTF-8 stays
+    CHECK(html_escape("\xC3(\xFF\xED\xA0\x80") == "\xEF\xBF\xBD(\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");
+}
+
+TEST_CASE("html format: summary, findings beside their lines, escaped program text, side views") {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / fs::path("osplint-html-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path file = dir / "P<1>.MIN";
+    {
+        std::ofstream f(file, std::ios::binary);
+        f << "O1000\n"
+             "(<script>alert('owned')</script> & \"Q\")\n"
+             "G0 X50 Y30\n"
+             "G56 Z50. H1\n"
+             "CALL OZAGR PR=5 PZ=-298. PI=5. M52 (<b>bold</b>)\n"
+             "G0 X0 Y0\n"
+             "CALL OZAGR PR=5 PZ=-20 PI=12 PM=52 M8\n"
+             "M30\n";
+    }
+    Config config;
+    config.travel['Z'] = TravelLimit{-300, 150};
+    const std::string page = html_page(file.string(), config);
+    // The same findings as the text report.
+    const FileResult r = check_file(file.string(), config);
+    REQUIRE(!r.diagnostics.empty());
+    uint64_t errors = 0, warnings = 0;
+    std::map<std::string, int> per_rule;
+    for (const auto& d : r.diagnostics) {
+        CAPTURE(d.rule);
+        CHECK(page.find("<p class=\"msg\">" + html_escape(d.message) + "</p>") != std::string::npos);
+        errors += d.severity == Severity::Error;
+        warnings += d.severity == Severity::Warning;
+        ++per_rule[d.rule];
+    }
+    CHECK(occurrences(page, "<article class=\"finding ") == r.diagnostics.size());
+    CHECK(per_rule.count("OSP104") == 1);
+    CHECK(per_rule.count("OSP301") == 1);
+    // The summary: counts per severity and per rule, linked to the first finding.
+    CHECK(page.find(fmt::format("<span class=\"n\">{}</span>error", errors)) != std::string::npos);
+    CHECK(page.find(fmt::format("<span class=\"n\">{}</span>warning", warnings)) != std::string::npos);
+    CHECK(page.find("<span class=\"n\">1</span>file checked") != std::string::npos);
+    for (const auto& [rule, n] : per_rule) {
+        CAPTURE(rule);
+        const size_t row = page.find(">" + rule + "</a></td>");
+        REQUIRE(row != std::string::npos);
+        CHECK(page.find(fmt::format("<td class=\"num\">{}</td></tr>", n), row) < page.find("</tr>", row) + 6);
+        CHECK(page.find("<a href=\"#file-1-", row) < page.find("</tr>", row));
+    }
+    CHECK(page.find("examples") == std::string::npos);
+    // Program text is escaped everywhere: the context line, the path, the fix.
+    CHECK(page.find("<script>") == std::string::npos);
+    CHECK(page.find("<b>bold") == std::string::npos);
+    CHECK(page.find("(&lt;script&gt;alert(&#39;owned&#39;)") != std::string::npos);
+    CHECK(page.find("&lt;/script&gt; &amp; &quot;Q&quot;)") != std::string::npos);
+    CHECK(page.find("&lt;b&gt;bold&lt;/b&gt;") != std::string::npos);
+    CHECK(page.find("P&lt;1&gt;.MIN") != std::string::npos);
+    // The lines around a finding, numbered, its columns marked.
+    CHECK(page.find("<td class=\"ln\">3</td>") != std::string::npos);
+    CHECK(page.find("<tr class=\"hit\"><td class=\"ln\">5</td>") != std::string::npos);
+    CHECK(page.find("<mark>M52</mark>") != std::string::npos);
+    CHECK(page.find("<code>PM=52</code>") != std::string::npos);
+    // The side view: an inline picture (no XML prologue) beside the calls, the one past the travel in red.
+    CHECK(occurrences(page, "<svg ") == 1);
+    CHECK(page.find("<?xml") == std::string::npos);
+    CHECK(page.find("class=\"violation\"") != std::string::npos);
+    CHECK(page.find("<tr class=\"travel\"><td class=\"num\">5</td>") != std::string::npos);
+    CHECK(page.find("<tr><td class=\"num\">7</td><td>OZAGR (CALL)</td><td class=\"code\">Z -37 .. 150</td>") !=
+          std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("html format: a file's findings beyond the cap are counted; without the file, only the line of each") {
+    std::vector<FileResult> results(1);
+    results[0].path = "/nonexistent/osplint/G.MIN";
+    for (uint32_t i = 1; i <= kHtmlMaxFindings + 5; ++i) {
+        Diagnostic d;
+        d.rule = "OSP104";
+        d.name = "m52-on-call-line";
+        d.message = "m";
+        d.range.start.line = d.range.end.line = i;
+        d.range.start.byte_col = 0;
+        d.range.end.byte_col = 3;
+        d.line_text = "M52 <" + std::to_string(i) + ">";
+        results[0].diagnostics.push_back(std::move(d));
+    }
+    const std::string page = render_report(results, Format::Html);
+    CHECK(occurrences(page, "<article class=\"finding ") == kHtmlMaxFindings);
+    CHECK(page.find("and 5 more findings not shown here") != std::string::npos);
+    CHECK(page.find(fmt::format("<td class=\"num\">{}</td></tr>", kHtmlMaxFindings + 5)) != std::string::npos);
+    CHECK(page.find("<td class=\"code\"><mark>M52</mark> &lt;1&gt;</td>") != std::string::npos);
+    CHECK(occurrences(page, "<td class=\"ln\">") == kHtmlMaxFindings);  // no context lines: the file is not there
+    CHECK(page.rfind("</html>\n") == page.size() - 8);
+}
+
+TEST_CASE("html format: the lines around a finding come from the file; a range ending at a line's start stops before it") {
+    namespace fs = std::filesystem;
+    const fs::path file = fs::temp_directory_path() / fs::path("osplint-html-lines-" + std::to_string(::getpid()) + ".MIN");
+    {
+        std::ofstream f(file, std::ios::binary);
+        for (int i = 1; i <= 9; ++i) f << "G0 X" << i << (i == 4 ? "\r\n" : "\n");
+    }
+    std::vector<FileResult> results(1);
+    results[0].path = file.string();
+    Diagnostic d;
+    d.rule = "OSP999";
+    d.name = "test";
+    d.message = "lines 5 and 6";
+    d.range.start.line = 5;
+    d.range.start.byte_col = 3;
+    d.range.end.line = 7;
+    d.range.end.byte_col = 0;
+    d.line_text = "G0 X5";
+    results[0].diagnostics.push_back(d);
+    const std::string page = render_report(results, Format::Html);
+    fs::remove(file);
+    CHECK(page.find("<tr><td class=\"ln\">2</td>") == std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">3</td><td class=\"code\">G0 X3</td></tr>") != std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">4</td><td class=\"code\">G0 X4</td></tr>") != std::string::npos);
+    CHECK(page.find("<tr class=\"hit\"><td class=\"ln\">5</td><td class=\"code\">G0 <mark>X5</mark></td></tr>") !=
+          std::string::npos);
+    CHECK(page.find("<tr class=\"hit\"><td class=\"ln\">6</td><td class=\"code\"><mark>G0 X6</mark></td></tr>") !=
+          std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">7</td><td class=\"code\">G0 X7</td></tr>") != std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">8</td>") != std::string::npos);
+    CHECK(page.find("<tr><td class=\"ln\">9</td>") == std::string::npos);
 }
