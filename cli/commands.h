@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct CheckOptions {
     bool statistics = false;     // --statistics: the number of findings of each rule instead of the findings
     std::string output_file;     // --output-file: the report goes there instead of standard output
     bool quiet = false;          // --quiet: the findings only (no summary, no notes)
+    std::vector<std::string> exclude;  // --exclude: glob patterns a directory walk skips, besides osplint.toml's
+    bool force_exclude = false;  // --force-exclude: the exclusions apply to the paths named too
 };
 void add_check_options(CLI::App& cmd, CheckOptions& o);
 int run_check(const CheckOptions& o);
@@ -40,7 +43,13 @@ struct TraceOptions {
 void add_trace_options(CLI::App& cmd, TraceOptions& o);
 int run_trace(const TraceOptions& o);
 
-std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors);
+// The files the command-line paths stand for: files as given, directories
+// walked for program files, `-` for standard input; sorted, without
+// duplicates. `skip` says which files and folders a walk passes over (and,
+// with `skip_named`, which of the paths named are left out too).
+using PathFilter = std::function<bool(const std::filesystem::path&)>;
+std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors,
+                                      const PathFilter& skip = {}, bool skip_named = false);
 bool is_program_file(const std::filesystem::path& p);
 
 }  // namespace osplint::cli

@@ -36,9 +36,8 @@ bool is_program_file(const fs::path& p) {
            ext == ".MSB";
 }
 
-// Expands the command-line paths: files as given, directories recursively
-// (program files only), `-` for standard input. Sorted, without duplicates.
-std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors) {
+std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors,
+                                      const PathFilter& skip, bool skip_named) {
     std::vector<std::string> files;
     for (const auto& a : args) {
         if (a == "-") {
@@ -47,8 +46,10 @@ std::vector<std::string> expand_paths(const std::vector<std::string>& args, std:
         }
         std::error_code ec;
         fs::path p(a);
+        if (skip && skip_named && skip(p)) continue;  // --force-exclude
         if (fs::is_directory(p, ec)) {
             std::vector<std::string> found;
+            bool skipped = false;
             fs::recursive_directory_iterator it(p, fs::directory_options::skip_permission_denied, ec), end;
             if (ec) {
                 errors.push_back(a + ": cannot read directory: " + ec.message());
@@ -57,10 +58,22 @@ std::vector<std::string> expand_paths(const std::vector<std::string>& args, std:
             for (; it != end; it.increment(ec)) {
                 if (ec) break;
                 std::error_code e2;
-                if (it->is_regular_file(e2) && is_program_file(it->path())) found.push_back(it->path().string());
+                if (it->is_directory(e2)) {
+                    if (skip && skip(it->path())) {
+                        it.disable_recursion_pending();
+                        skipped = true;
+                    }
+                    continue;
+                }
+                if (!it->is_regular_file(e2) || !is_program_file(it->path())) continue;
+                if (skip && skip(it->path())) {
+                    skipped = true;
+                    continue;
+                }
+                found.push_back(it->path().string());
             }
             std::sort(found.begin(), found.end());
-            if (found.empty())
+            if (found.empty() && !skipped)
                 errors.push_back(a + ": no program files (.MIN .SSB .SUB .SDF .LIB .NC .MSB) in this directory");
             files.insert(files.end(), found.begin(), found.end());
         } else {
@@ -88,6 +101,7 @@ int cmd_rules() {
 int cmd_explain(const std::string& what_in) {
     std::string what = what_in;
     for (auto& c : what) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (const RuleMeta* by_key = builtin_rules().resolve(what_in)) what = std::string(by_key->id);  // ID or name
     if (find_rule(what)) {
         if (auto doc = embedded::find("docs/rules/" + what + ".md")) {
             std::cout << *doc;
@@ -121,8 +135,9 @@ int cmd_explain(const std::string& what_in) {
             return 0;
         }
     std::cerr << "osplint: '" << what_in
-              << "' is neither a rule ID (see `osplint rules`), a macro or G/M code of the catalog, nor a fixed "
-                 "cycle\n";
+              << "' is neither a rule ID or name (see `osplint rules`), a macro or G/M code of the catalog, nor a "
+                 "fixed cycle"
+              << builtin_rules().suggestion(what_in) << "\n";
     return 2;
 }
 
@@ -145,7 +160,7 @@ int main(int argc, char** argv) {
 
     std::string explain_what;
     auto* explain_cmd = app.add_subcommand("explain", "Print a rule's documentation, a macro's card or a fixed cycle's card");
-    explain_cmd->add_option("what", explain_what, "A rule ID (OSP104), a macro name or code (OZAGR, G114) or a fixed cycle (G81)")->required();
+    explain_cmd->add_option("what", explain_what, "A rule ID or name (OSP104, m52-on-call-line), a macro name or code (OZAGR, G114) or a fixed cycle (G81)")->required();
 
     std::string config_file;
     std::string config_dir = ".";

@@ -91,6 +91,25 @@ std::shared_ptr<const Config> ConfigCache::defaults() {
 void ConfigCache::invalidate() {
     std::lock_guard lock(m_);
     entries_.clear();
+    per_path_.clear();
+}
+
+std::shared_ptr<const Config> ConfigCache::for_file(const std::shared_ptr<const Config>& config,
+                                                    const std::optional<fs::path>& file) {
+    if (!config || !file || config->per_path.empty()) return config;
+    std::vector<size_t> tables = config->per_path_matching(*file);
+    if (tables.empty()) return config;
+    std::lock_guard lock(m_);
+    for (auto it = per_path_.begin(); it != per_path_.end();)  // those nothing uses any more
+        it = it->second.base.use_count() == 1 && it->second.config.use_count() == 1 ? per_path_.erase(it)
+                                                                                     : std::next(it);
+    auto& slot = per_path_[{config.get(), tables}];
+    if (!slot.config) {
+        auto derived = std::make_shared<Config>(*config);
+        derived->apply_per_path(tables);
+        slot = {config, std::move(derived)};
+    }
+    return slot.config;
 }
 
 ConfigCache::Lookup ConfigCache::get(const std::optional<fs::path>& dir) {
@@ -515,6 +534,7 @@ void Server::collect_known(Model& m, const std::optional<std::string>& path) {
 
 void Server::update_model(Model& m, Job& job) {
     auto lookup = configs_.get(config_dir(job.path));
+    lookup.config = configs_.for_file(lookup.config, job.path);
     if (!lookup.error.empty()) {
         log(lookup.error);
         send(make_notification("window/showMessage", {{"type", 1}, {"message", lookup.error}}));

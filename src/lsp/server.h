@@ -64,6 +64,10 @@ public:
         bool reloaded = false;  // a file changed since it was last read
     };
     Lookup get(const std::optional<std::filesystem::path>& dir);
+    // The configuration of `file` in it: with the [[per-path]] tables that
+    // match the file applied (the same object for files that match the same).
+    std::shared_ptr<const Config> for_file(const std::shared_ptr<const Config>& config,
+                                           const std::optional<std::filesystem::path>& file);
     void invalidate();
 
 private:
@@ -72,6 +76,11 @@ private:
         std::uintmax_t size = 0;
         std::shared_ptr<const Config> config;
     };
+    struct Derived {
+        std::shared_ptr<const Config> base;  // held: its address is part of the key
+        std::shared_ptr<const Config> config;
+    };
+    std::map<std::pair<const Config*, std::vector<size_t>>, Derived> per_path_;
     std::shared_ptr<const Config> defaults();
     std::mutex m_;
     std::map<std::string, Entry> entries_;

@@ -491,6 +491,31 @@ TEST_CASE("lsp: configuration: nearest osplint.toml, reloaded when it changes, b
     fs::remove_all(dir);
 }
 
+TEST_CASE("lsp: configuration: [[per-path]] tables apply to the documents they match") {
+    const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-pp-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "probe");
+    std::ofstream(dir / "osplint.toml", std::ios::binary)
+        << "[rules]\nOSP104 = \"warning\"\n[[per-path]]\npaths = [\"probe/**\"]\nrules = { m52-on-call-line = \"info\" }\n";
+    const std::string probe = path_to_uri((dir / "probe" / "PART.MIN").string());
+    const std::string other = path_to_uri((dir / "PART.MIN").string());
+    {
+        Session s;
+        s.initialize();
+        s.open(probe, kProgram, 1);
+        json l1 = s.diagnostics(probe, 1)["diagnostics"];
+        const json* d = find_code(l1, "OSP104");
+        REQUIRE(d);
+        CHECK((*d)["severity"] == 3);
+        s.open(other, kProgram, 1);
+        json l2 = s.diagnostics(other, 1)["diagnostics"];
+        const json* d2 = find_code(l2, "OSP104");
+        REQUIRE(d2);
+        CHECK((*d2)["severity"] == 2);
+    }
+    fs::remove_all(dir);
+}
+
 TEST_CASE("lsp: subprograms beside the document are known (no OSP005 for them)") {
     const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-sub-" + std::to_string(::getpid()));
     fs::remove_all(dir);
