@@ -141,6 +141,48 @@ int cmd_explain(const std::string& what_in) {
     return 2;
 }
 
+// After a usage error: "did you mean" for a mistyped subcommand or long
+// option, which CLI11 does not suggest by itself. Looks at the words of the
+// command line the way the parser does: the first word that is not an option
+// names the subcommand; every `--name` before a bare `--` must be an option
+// of that subcommand (or of the application).
+void suggest_after_usage_error(const CLI::App& app, int argc, char** argv) {
+    const CLI::App* sub = nullptr;
+    int first = 1;
+    if (argc > 1 && argv[1][0] != '-') {
+        const std::string word = argv[1];
+        std::vector<std::string_view> names;
+        for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; })) {
+            names.push_back(s->get_name());
+            if (s->get_name() == word) sub = s;
+        }
+        if (!sub) {
+            const std::string near = closest_match(word, names);
+            std::cerr << "osplint: unknown command '" << word << "'"
+                      << (near.empty() ? std::string(" (see osplint --help)") : ": did you mean '" + near + "'?")
+                      << "\n";
+            return;
+        }
+        first = 2;
+    }
+    std::vector<std::string> longs;
+    for (const CLI::App* a : {sub, &app}) {
+        if (!a) continue;
+        for (const CLI::Option* opt : a->get_options())
+            for (const auto& l : opt->get_lnames()) longs.push_back("--" + l);
+    }
+    for (int i = first; i < argc; ++i) {
+        std::string word = argv[i];
+        if (word == "--") break;
+        if (word.size() < 3 || word.compare(0, 2, "--") != 0) continue;
+        word = word.substr(0, word.find('='));
+        if (std::find(longs.begin(), longs.end(), word) != longs.end()) continue;
+        const std::string near = closest_match(word, std::vector<std::string_view>(longs.begin(), longs.end()));
+        std::cerr << "osplint: unknown option '" << word << "'"
+                  << (near.empty() ? std::string() : ": did you mean '" + near + "'?") << "\n";
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -180,6 +222,7 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         app.exit(e);
+        suggest_after_usage_error(app, argc, argv);
         return 2;
     }
     if (show_version) {
