@@ -36,7 +36,7 @@ namespace fs = std::filesystem;
 namespace osplint::cli {
 
 void add_check_options(CLI::App& cmd, CheckOptions& o) {
-    cmd.add_option("paths", o.paths, "Files, directories (.MIN .SSB .SUB .SDF .LIB .NC) or - for stdin")->required();
+    cmd.add_option("paths", o.paths, "Files, directories (.MIN .SSB .SUB .SDF .LIB .NC .MSB) or - for stdin")->required();
     cmd.add_option("--format", o.format, "Output format: text, json, sarif, gcc or github")
         ->check(CLI::IsMember({"text", "json", "sarif", "gcc", "github"}));
     cmd.add_option("--config", o.config, "Configuration file (default: nearest osplint.toml of each file)");

@@ -14,6 +14,8 @@ if [[ ${1:-} == --test ]]; then
              clang libclang-rt-14-dev  # the differential fuzzer (tests/scripts/fuzz_short.sh)
              time  # peak RSS in bench/run.sh
              python3  # the Python example consumer (tests/scripts/install_consumers.sh)
+             groff-base  # the manual page renders without warnings (tests/scripts/man_completions.sh)
+             zsh  # ... and the zsh completion parses
   )
   # npm and node for the SARIF validation test (tests/sarif/validate.sh installs
   # Microsoft's SARIF multitool from the npm registry), unless a node
