@@ -286,6 +286,9 @@ int run_check(const CheckOptions& given) {
         return c && c->excluded(p);
     };
     std::vector<std::string> files = expand_paths(o.paths, errors, excluded, o.force_exclude);
+    // --force-exclude: standard input is left out too when --stdin-filename matches.
+    if (o.force_exclude && !o.stdin_filename.empty() && excluded(fs::path(o.stdin_filename)))
+        files.erase(std::remove(files.begin(), files.end(), std::string("-")), files.end());
     // Each file's configuration: its directory's, with the [[per-path]] tables
     // that match it, then --select / --ignore.
     std::map<std::string, std::shared_ptr<Config>> by_file_kind;

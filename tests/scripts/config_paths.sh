@@ -55,6 +55,15 @@ expect "per-path: other files keep the error" 1 'cell/P1.MIN:2:30: error: .*\[OS
 expect "a file named is checked though excluded" 1 'old/P2.MIN:2:30: error' -- check cell/old/P2.MIN --format gcc
 expect "--force-exclude: not even the file named" 0 'in 0 files' -- check --force-exclude cell/old/P2.MIN cell/P3.BAK.MIN
 expect "--force-exclude: a directory named" 0 'in 0 files' -- check --force-exclude cell/old
+out=$(printf '%s\n' "$m52" | "$osplint" check --force-exclude --stdin-filename cell/old/P9.MIN - 2>&1); rc=$?
+if [[ $rc == 0 && $out == *"in 0 files"* ]]; then echo "ok: --force-exclude: stdin under an excluded --stdin-filename"
+else echo "FAIL: --force-exclude with stdin: exit $rc: $out"; fail=1; fi
+out=$(printf '%s\n' "$m52" | "$osplint" check --stdin-filename cell/old/P9.MIN - 2>&1); rc=$?
+if [[ $rc == 1 && $out == *"cell/old/P9.MIN:2:30"* ]]; then echo "ok: stdin is checked without --force-exclude"
+else echo "FAIL: stdin without --force-exclude: exit $rc: $out"; fail=1; fi
+out=$(printf '%s\n' "$m52" | "$osplint" check --format gcc --stdin-filename cell/probe/P9.MIN - 2>&1)
+if [[ $out == *"P9.MIN:2:30: note:"* ]]; then echo "ok: per-path applies to stdin by --stdin-filename"
+else echo "FAIL: per-path with stdin: $out"; fail=1; fi
 expect "--exclude adds to the file's patterns" 1 'in 1 file' -- check --exclude 'probe' cell
 expect "--exclude is repeatable" 0 'in 0 files' -- check --exclude probe --exclude 'P[0-9].MIN' cell
 expect "--exclude with a bad pattern" 2 "--exclude 'P\[1': '\[' without its closing" -- check --exclude 'P[1' cell

@@ -29,6 +29,11 @@ fi
 # Rendered text: "-" may come out as U+2010 or U+2212 depending on the device.
 text=$(sed 's/\xe2\x80\x90/-/g; s/\xe2\x88\x92/-/g' <<<"$text")
 
+# The version on the page is the command's.
+version=$("$osplint" --version | awk '{ print $2 }')
+if grep -q "^\.TH OSPLINT 1 .*\"osplint $version\"" "$man_page"; then ok "the page is of osplint $version"
+else bad "the page's .TH line does not name osplint $version"; fi
+
 # Subcommands, and the long options of the application and of each subcommand.
 help=$("$osplint" --help)
 mapfile -t commands < <(awk '/^Subcommands:/ { on = 1; next } on && NF { print $1 }' <<<"$help")
