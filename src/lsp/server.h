@@ -72,8 +72,8 @@ public:
 
 private:
     struct Entry {
-        std::filesystem::file_time_type mtime{};
-        std::uintmax_t size = 0;
+        // Modification time and size of the file and of those it extends.
+        std::vector<std::pair<std::filesystem::file_time_type, std::uintmax_t>> stamps;
         std::shared_ptr<const Config> config;
     };
     struct Derived {
