@@ -232,7 +232,9 @@ int run_check(const CheckOptions& given) {
     for (const auto& p : o.exclude) {
         std::string_view why;
         if (!glob_valid(p, &why)) throw std::runtime_error("--exclude '" + p + "': " + std::string(why));
-        cli_exclude.push_back({p, fs::path("."), "--exclude"});
+        std::string pattern = p;
+        while (pattern.size() > 2 && pattern.compare(0, 2, "./") == 0) pattern.erase(0, 2);
+        cli_exclude.push_back({pattern, fs::path("."), "--exclude"});
     }
     std::ofstream output_file;
     if (!o.output_file.empty()) {

@@ -65,6 +65,7 @@ out=$(printf '%s\n' "$m52" | "$osplint" check --format gcc --stdin-filename cell
 if [[ $out == *"P9.MIN:2:30: note:"* ]]; then echo "ok: per-path applies to stdin by --stdin-filename"
 else echo "FAIL: per-path with stdin: $out"; fail=1; fi
 expect "--exclude adds to the file's patterns" 1 'in 1 file' -- check --exclude 'probe' cell
+expect "--exclude with ./ and a folder" 1 'in 1 file' -- check --exclude ./cell/probe/ cell
 expect "--exclude is repeatable" 0 'in 0 files' -- check --exclude probe --exclude 'P[0-9].MIN' cell
 expect "--exclude with a bad pattern" 2 "--exclude 'P\[1': '\[' without its closing" -- check --exclude 'P[1' cell
 expect "config shows the chain" 0 '^# extends .*shop/osplint.toml' -- config cell
