@@ -91,7 +91,8 @@ void read_machine(Config& c, const std::string& origin, const toml::table& m) {
 
 // The rule severities of [rules] or of a [[per-path]] table's `rules`: a key
 // is a rule's ID or name, or a prefix of IDs ("OSP1") for every rule it
-// starts; a rule's own key wins over a prefix, a longer prefix over a shorter.
+// starts but OSP001; a rule's own key wins over a prefix, a longer prefix over
+// a shorter.
 void read_severities(std::map<std::string, std::optional<Severity>>& into, const std::string& origin,
                      const std::string& prefix, const toml::table& t, const RuleIdentities& rules) {
     struct Entry {
@@ -108,8 +109,10 @@ void read_severities(std::map<std::string, std::optional<Severity>>& into, const
             e.ids.push_back(std::string(rule->id));
             e.rank = SIZE_MAX;
         } else {
+            // OSP001 (a program that does not parse) is turned off by its own key only.
             for (const auto& r : rules)
-                if (written.size() >= 4 && upper(written) == written && r.id.substr(0, written.size()) == written)
+                if (written.size() >= 4 && upper(written) == written && r.id.substr(0, written.size()) == written &&
+                    r.id != "OSP001")
                     e.ids.push_back(std::string(r.id));
             e.rank = written.size();
         }

@@ -205,6 +205,11 @@ rules = { OSP204 = "off", OSP1 = "warning", m52-on-call-line = "info" }
     CHECK(probe.severity_of("OSP104", Severity::Error, true) == Severity::Info);  // its name wins over OSP1
     CHECK(probe.severity_of("OSP101", Severity::Error, true) == Severity::Warning);  // the prefix OSP1
     CHECK(probe.severity_of("OSP110", Severity::Error, true) == Severity::Warning);
+    Config zero = parse_config("[rules]\nOSP0 = \"off\"\nOSP1 = \"off\"\nOSP10 = \"info\"\n", "osplint.toml");
+    CHECK(zero.severity_of("OSP001", Severity::Error, true) == Severity::Error);  // by its own key only
+    CHECK_FALSE(zero.severity_of("OSP002", Severity::Error, true).has_value());
+    CHECK(zero.severity_of("OSP104", Severity::Error, true) == Severity::Info);  // the longer prefix wins
+    CHECK_FALSE(zero.severity_of("OSP110", Severity::Error, true).has_value());
     CHECK(c.severity_of("OSP204", Severity::Warning, true) == Severity::Error);
 
     SUBCASE("mistakes") {
