@@ -38,6 +38,7 @@
 #include "cli/commands.h"
 #include "osplint/osplint.h"
 #include "rules/registry.h"
+#include "support/glob.h"
 #include "support/threads.h"
 
 namespace fs = std::filesystem;
@@ -45,7 +46,7 @@ namespace fs = std::filesystem;
 namespace osplint::cli {
 
 void add_check_options(CLI::App& cmd, CheckOptions& o) {
-    cmd.add_option("paths", o.paths, "Files, directories (.MIN .SSB .SUB .SDF .LIB .NC) or - for stdin")->required();
+    cmd.add_option("paths", o.paths, "Files, directories (.MIN .SSB .SUB .SDF .LIB .NC .MSB) or - for stdin")->required();
     cmd.add_option("--format", o.format,
                    "Output format: text, json, sarif, gcc, github or html (one page: summary, findings with their "
                    "lines, cycle-axis side views)")
@@ -53,8 +54,14 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
     cmd.add_option("--config", o.config, "Configuration file (default: nearest osplint.toml of each file)");
     cmd.add_option("--fail-on", o.fail_on, "Lowest severity that makes the exit code 1")
         ->check(CLI::IsMember({"error", "warning", "info", "never"}));
-    cmd.add_option("--select", o.select, "Only these rules (IDs or prefixes such as OSP2)")->delimiter(',');
-    cmd.add_option("--ignore", o.ignore, "Not these rules (IDs or prefixes)")->delimiter(',');
+    cmd.add_option("--select", o.select, "Only these rules (IDs, names or prefixes such as OSP2)")->delimiter(',');
+    cmd.add_option("--ignore", o.ignore, "Not these rules (IDs, names or prefixes)")->delimiter(',');
+    cmd.add_option("--exclude", o.exclude,
+                   "Skip files and folders matching this glob pattern when walking directories (repeatable; "
+                   "adds to osplint.toml's exclude)")
+        ->allow_extra_args(false);
+    cmd.add_flag("--force-exclude", o.force_exclude,
+                 "Apply the exclusions to the files and directories named on the command line too");
     cmd.add_option("--stdin-filename", o.stdin_filename, "Path to report for the program read from stdin");
     cmd.add_option("--color", o.color, "Color in text output")->check(CLI::IsMember({"auto", "always", "never"}));
     cmd.add_option("-j,--jobs", o.jobs, "Files checked in parallel (default: one per core)");
@@ -105,13 +112,24 @@ void apply_selection(Config& c, const CheckOptions& o) {
     }
 }
 
+// Rule names in --select / --ignore become their IDs; a prefix stays as written.
+CheckOptions resolve_selection(const CheckOptions& o) {
+    CheckOptions r = o;
+    for (auto* list : {&r.select, &r.ignore})
+        for (auto& p : *list)
+            if (const RuleMeta* m = builtin_rules().resolve(p)) p = std::string(m->id);
+    return r;
+}
+
 void validate_selection(const CheckOptions& o) {
     for (const auto* list : {&o.select, &o.ignore})
         for (const auto& p : *list) {
             bool any = false;
             for (const auto& m : all_rules())
                 if (rule_matches(m.id, p)) any = true;
-            if (!any) throw std::runtime_error("no rule matches '" + p + "' (see `osplint rules`)");
+            if (!any)
+                throw std::runtime_error("no rule matches '" + p + "'" + builtin_rules().suggestion(p) +
+                                         " (see `osplint rules`)");
         }
 }
 
@@ -340,13 +358,22 @@ private:
 
 }  // namespace
 
-int run_check(const CheckOptions& o) {
+int run_check(const CheckOptions& given) {
+    const CheckOptions o = resolve_selection(given);
     validate_selection(o);
     if (o.statistics && o.format != "text") throw std::runtime_error("--statistics prints text: it takes no --format");
     if (o.diff && (o.format != "text" || o.statistics || !o.baseline.empty() || !o.write_baseline.empty()))
         throw std::runtime_error("--diff prints a diff: it takes no --format, --statistics, --baseline or --write-baseline");
     const bool fixing = o.fix || o.diff;
     const bool fix_writes = o.fix && !o.diff;  // --fix --diff shows the diff and writes nothing
+    std::vector<PathPattern> cli_exclude;  // --exclude: relative to the working directory
+    for (const auto& p : o.exclude) {
+        std::string_view why;
+        if (!glob_valid(p, &why)) throw std::runtime_error("--exclude '" + p + "': " + std::string(why));
+        std::string pattern = p;
+        while (pattern.size() > 2 && pattern.compare(0, 2, "./") == 0) pattern.erase(0, 2);
+        cli_exclude.push_back({pattern, fs::path("."), "--exclude"});
+    }
     std::ofstream output_file;
     if (!o.output_file.empty()) {
         output_file.open(o.output_file, std::ios::binary | std::ios::trunc);
@@ -359,17 +386,12 @@ int run_check(const CheckOptions& o) {
                            : program_on_stdout    ? std::cerr
                                                   : std::cout;
     std::vector<std::string> errors;
-    std::vector<std::string> files = expand_paths(o.paths, errors);
     const std::string stdin_name = o.stdin_filename.empty() ? std::string("<stdin>") : o.stdin_filename;
 
     // Configuration: one file for everything (--config), else the nearest
     // osplint.toml of each file's directory (for stdin: of --stdin-filename's).
-    std::map<std::string, std::shared_ptr<Config>> by_dir;
     std::shared_ptr<Config> fixed;
-    if (!o.config.empty()) {
-        fixed = std::make_shared<Config>(load_config(o.config));
-        apply_selection(*fixed, o);
-    }
+    if (!o.config.empty()) fixed = std::make_shared<Config>(load_config(o.config));
     auto dir_of = [&](const std::string& file) {
         fs::path dir = file == "-" ? (o.stdin_filename.empty() ? fs::path(".") : fs::path(o.stdin_filename).parent_path())
                                    : fs::path(file).parent_path();
@@ -380,10 +402,10 @@ int run_check(const CheckOptions& o) {
     // checked (null configuration), and the others are.
     std::map<std::string, std::string> broken;  // configuration file -> its error
     std::map<std::string, std::string> broken_by_dir;
-    auto config_for = [&](const std::string& file) -> std::shared_ptr<Config> {
+    std::map<std::string, std::shared_ptr<Config>> by_dir;  // as read, before [[per-path]] and the selection
+    auto config_of_dir = [&](const fs::path& dir) -> std::shared_ptr<Config> {
         if (fixed) return fixed;
-        fs::path dir = dir_of(file);
-        std::string key = dir.string();
+        const std::string key = dir.string();
         if (auto it = by_dir.find(key); it != by_dir.end()) return it->second;
         auto c = std::make_shared<Config>();
         if (auto f = find_config(dir)) {
@@ -392,12 +414,43 @@ int run_check(const CheckOptions& o) {
             } catch (const ConfigError& e) {
                 broken.emplace(f->string(), e.what());
                 broken_by_dir[key] = f->string();
-                by_dir[key] = nullptr;
-                return nullptr;
+                c = nullptr;
             }
         }
-        apply_selection(*c, o);
         by_dir[key] = c;
+        return c;
+    };
+    // What a directory walk skips: --exclude, and the `exclude` of the
+    // configuration that applies there.
+    auto excluded = [&](const fs::path& p) {
+        for (const auto& e : cli_exclude)
+            if (path_matches(e, p)) return true;
+        fs::path dir = p.parent_path();
+        if (dir.empty()) dir = ".";
+        const auto c = config_of_dir(dir);
+        return c && c->excluded(p);
+    };
+    std::vector<std::string> files = expand_paths(o.paths, errors, excluded, o.force_exclude);
+    // --force-exclude: standard input is left out too when --stdin-filename matches.
+    if (o.force_exclude && !o.stdin_filename.empty() && excluded(fs::path(o.stdin_filename)))
+        files.erase(std::remove(files.begin(), files.end(), std::string("-")), files.end());
+    // Each file's configuration: its directory's, with the [[per-path]] tables
+    // that match it, then --select / --ignore.
+    std::map<std::string, std::shared_ptr<Config>> by_file_kind;
+    auto config_for = [&](const std::string& file) -> std::shared_ptr<Config> {
+        const fs::path dir = dir_of(file);
+        auto base = config_of_dir(dir);
+        if (!base) return nullptr;
+        const fs::path named = file == "-" ? (o.stdin_filename.empty() ? fs::path() : fs::path(o.stdin_filename))
+                                           : fs::path(file);
+        const std::vector<size_t> tables = named.empty() ? std::vector<size_t>{} : base->per_path_matching(named);
+        std::string key = (fixed ? std::string("\n") : dir.string()) + "\n";
+        for (size_t t : tables) key += std::to_string(t) + ",";
+        if (auto it = by_file_kind.find(key); it != by_file_kind.end()) return it->second;
+        auto c = std::make_shared<Config>(*base);
+        c->apply_per_path(tables);
+        apply_selection(*c, o);
+        by_file_kind[key] = c;
         return c;
     };
     std::vector<std::shared_ptr<Config>> configs;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,8 @@ struct CheckOptions {
     bool fix = false;            // --fix: apply the safe fixes to the files, then report what is left
     bool unsafe_fixes = false;   // --unsafe-fixes: --fix and --diff apply the unsafe fixes too
     bool diff = false;           // --diff: print the fixes as a unified diff, change nothing
+    std::vector<std::string> exclude;  // --exclude: glob patterns a directory walk skips, besides osplint.toml's
+    bool force_exclude = false;  // --force-exclude: the exclusions apply to the paths named too
 };
 void add_check_options(CLI::App& cmd, CheckOptions& o);
 int run_check(const CheckOptions& o);
@@ -43,7 +46,13 @@ struct TraceOptions {
 void add_trace_options(CLI::App& cmd, TraceOptions& o);
 int run_trace(const TraceOptions& o);
 
-std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors);
+// The files the command-line paths stand for: files as given, directories
+// walked for program files, `-` for standard input; sorted, without
+// duplicates. `skip` says which files and folders a walk passes over (and,
+// with `skip_named`, which of the paths named are left out too).
+using PathFilter = std::function<bool(const std::filesystem::path&)>;
+std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors,
+                                      const PathFilter& skip = {}, bool skip_named = false);
 bool is_program_file(const std::filesystem::path& p);
 
 }  // namespace osplint::cli

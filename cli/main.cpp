@@ -36,9 +36,8 @@ bool is_program_file(const fs::path& p) {
            ext == ".MSB";
 }
 
-// Expands the command-line paths: files as given, directories recursively
-// (program files only), `-` for standard input. Sorted, without duplicates.
-std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors) {
+std::vector<std::string> expand_paths(const std::vector<std::string>& args, std::vector<std::string>& errors,
+                                      const PathFilter& skip, bool skip_named) {
     std::vector<std::string> files;
     for (const auto& a : args) {
         if (a == "-") {
@@ -47,8 +46,10 @@ std::vector<std::string> expand_paths(const std::vector<std::string>& args, std:
         }
         std::error_code ec;
         fs::path p(a);
+        if (skip && skip_named && skip(p)) continue;  // --force-exclude
         if (fs::is_directory(p, ec)) {
             std::vector<std::string> found;
+            bool skipped = false;
             fs::recursive_directory_iterator it(p, fs::directory_options::skip_permission_denied, ec), end;
             if (ec) {
                 errors.push_back(a + ": cannot read directory: " + ec.message());
@@ -57,10 +58,22 @@ std::vector<std::string> expand_paths(const std::vector<std::string>& args, std:
             for (; it != end; it.increment(ec)) {
                 if (ec) break;
                 std::error_code e2;
-                if (it->is_regular_file(e2) && is_program_file(it->path())) found.push_back(it->path().string());
+                if (it->is_directory(e2)) {
+                    if (skip && skip(it->path())) {
+                        it.disable_recursion_pending();
+                        skipped = true;
+                    }
+                    continue;
+                }
+                if (!it->is_regular_file(e2) || !is_program_file(it->path())) continue;
+                if (skip && skip(it->path())) {
+                    skipped = true;
+                    continue;
+                }
+                found.push_back(it->path().string());
             }
             std::sort(found.begin(), found.end());
-            if (found.empty())
+            if (found.empty() && !skipped)
                 errors.push_back(a + ": no program files (.MIN .SSB .SUB .SDF .LIB .NC .MSB) in this directory");
             files.insert(files.end(), found.begin(), found.end());
         } else {
@@ -88,6 +101,7 @@ int cmd_rules() {
 int cmd_explain(const std::string& what_in) {
     std::string what = what_in;
     for (auto& c : what) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (const RuleMeta* by_key = builtin_rules().resolve(what_in)) what = std::string(by_key->id);  // ID or name
     if (find_rule(what)) {
         if (auto doc = embedded::find("docs/rules/" + what + ".md")) {
             std::cout << *doc;
@@ -121,9 +135,52 @@ int cmd_explain(const std::string& what_in) {
             return 0;
         }
     std::cerr << "osplint: '" << what_in
-              << "' is neither a rule ID (see `osplint rules`), a macro or G/M code of the catalog, nor a fixed "
-                 "cycle\n";
+              << "' is neither a rule ID or name (see `osplint rules`), a macro or G/M code of the catalog, nor a "
+                 "fixed cycle"
+              << builtin_rules().suggestion(what_in) << "\n";
     return 2;
+}
+
+// After a usage error: "did you mean" for a mistyped subcommand or long
+// option, which CLI11 does not suggest by itself. Looks at the words of the
+// command line the way the parser does: the first word that is not an option
+// names the subcommand; every `--name` before a bare `--` must be an option
+// of that subcommand (or of the application).
+void suggest_after_usage_error(const CLI::App& app, int argc, char** argv) {
+    const CLI::App* sub = nullptr;
+    int first = 1;
+    if (argc > 1 && argv[1][0] != '-') {
+        const std::string word = argv[1];
+        std::vector<std::string_view> names;
+        for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; })) {
+            names.push_back(s->get_name());
+            if (s->get_name() == word) sub = s;
+        }
+        if (!sub) {
+            const std::string near = closest_match(word, names);
+            std::cerr << "osplint: unknown command '" << word << "'"
+                      << (near.empty() ? std::string(" (see osplint --help)") : ": did you mean '" + near + "'?")
+                      << "\n";
+            return;
+        }
+        first = 2;
+    }
+    std::vector<std::string> longs;
+    for (const CLI::App* a : {sub, &app}) {
+        if (!a) continue;
+        for (const CLI::Option* opt : a->get_options())
+            for (const auto& l : opt->get_lnames()) longs.push_back("--" + l);
+    }
+    for (int i = first; i < argc; ++i) {
+        std::string word = argv[i];
+        if (word == "--") break;
+        if (word.size() < 3 || word.compare(0, 2, "--") != 0) continue;
+        word = word.substr(0, word.find('='));
+        if (std::find(longs.begin(), longs.end(), word) != longs.end()) continue;
+        const std::string near = closest_match(word, std::vector<std::string_view>(longs.begin(), longs.end()));
+        std::cerr << "osplint: unknown option '" << word << "'"
+                  << (near.empty() ? std::string() : ": did you mean '" + near + "'?") << "\n";
+    }
 }
 
 }  // namespace
@@ -145,7 +202,7 @@ int main(int argc, char** argv) {
 
     std::string explain_what;
     auto* explain_cmd = app.add_subcommand("explain", "Print a rule's documentation, a macro's card or a fixed cycle's card");
-    explain_cmd->add_option("what", explain_what, "A rule ID (OSP104), a macro name or code (OZAGR, G114) or a fixed cycle (G81)")->required();
+    explain_cmd->add_option("what", explain_what, "A rule ID or name (OSP104, m52-on-call-line), a macro name or code (OZAGR, G114) or a fixed cycle (G81)")->required();
 
     std::string config_file;
     std::string config_dir = ".";
@@ -165,6 +222,7 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         app.exit(e);
+        suggest_after_usage_error(app, argc, argv);
         return 2;
     }
     if (show_version) {

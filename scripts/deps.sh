@@ -15,6 +15,8 @@ if [[ ${1:-} == --test ]]; then
              time  # peak RSS in bench/run.sh
              python3  # the Python example consumer (tests/scripts/install_consumers.sh)
              chromium  # renders the HTML report headless (tests/scripts/html_report.sh)
+             groff-base  # the manual page renders without warnings (tests/scripts/man_completions.sh)
+             zsh  # ... and the zsh completion parses
   )
   # npm and node for the SARIF validation test (tests/sarif/validate.sh installs
   # Microsoft's SARIF multitool from the npm registry), unless a node

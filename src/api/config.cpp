@@ -5,11 +5,7 @@
 namespace osplint {
 
 const RuleIdentities& builtin_rule_identities() {
-    static const RuleIdentities ids = [] {
-        RuleIdentities v;
-        for (const auto& m : all_rules()) v.push_back({m.id, m.severity, m.enabled_by_default});
-        return v;
-    }();
+    static const RuleIdentities ids = builtin_rules().identities();
     return ids;
 }
 

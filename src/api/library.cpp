@@ -47,23 +47,37 @@ struct Prepared {
     }
 };
 
+// The configuration of the file at `path`: with the [[per-path]] tables that
+// match it applied (a copy in `holder`), or the configuration itself.
+const Config& for_path(const Config& config, const std::string& path, std::optional<Config>& holder) {
+    if (config.per_path.empty()) return config;
+    const std::vector<size_t> tables = config.per_path_matching(path);
+    if (tables.empty()) return config;
+    holder.emplace(config);
+    holder->apply_per_path(tables);
+    return *holder;
+}
+
 }  // namespace
 
 FileResult check_text(const std::string& path, std::string_view text, const Configuration& config,
                       const CheckOptions& options) {
     Prepared p(options);
-    return check_text(path, text, config.get(), p.options);
+    std::optional<Config> holder;
+    return check_text(path, text, for_path(config.get(), path, holder), p.options);
 }
 
 FileResult check_file(const std::string& path, const Configuration& config, const CheckOptions& options) {
     Prepared p(options);
-    return check_file(path, config.get(), p.options);
+    std::optional<Config> holder;
+    return check_file(path, for_path(config.get(), path, holder), p.options);
 }
 
 void check_file(const std::string& path, const Configuration& config, const CheckOptions& options,
                 DiagnosticSink& sink) {
     Prepared p(options);
-    check_path(path, config.get(), p.options, sink);
+    std::optional<Config> holder;
+    check_path(path, for_path(config.get(), path, holder), p.options, sink);
 }
 
 }  // namespace osplint

@@ -16,6 +16,7 @@
 
 #include "osplint/diagnostic.h"
 #include "semantics/calls.h"
+#include "semantics/config.h"
 #include "semantics/modal.h"
 #include "syntax/model.h"
 
@@ -129,6 +130,15 @@ public:
             if (m.id == id) return &m;
         return nullptr;
     }
+    // The rules as a configuration names them.
+    RuleIdentities identities() const;
+    // The rule that `key` names, by ID or by name, in any case ("OSP104",
+    // "m52-on-call-line"): what the command line, osplint.toml and the
+    // suppression directives accept (semantics/config.h: resolve_rule).
+    const RuleMeta* resolve(std::string_view key) const;
+    // " (did you mean 'OSP104'?)" for a key that names no rule; empty when no
+    // ID or name is near.
+    std::string suggestion(std::string_view key) const;
 };
 
 // The rules that run under a configuration: every enabled rule, or exactly

@@ -18,6 +18,20 @@ std::vector<std::unique_ptr<Rule>> select_rules(const RuleRegistry& registry, co
     return out;
 }
 
+RuleIdentities RuleRegistry::identities() const {
+    RuleIdentities v;
+    for (const auto& m : all()) v.push_back({m.id, m.name, m.severity, m.enabled_by_default});
+    return v;
+}
+
+const RuleMeta* RuleRegistry::resolve(std::string_view key) const {
+    const RuleIdentities ids = identities();
+    const RuleIdentity* r = resolve_rule(ids, key);
+    return r ? find(r->id) : nullptr;
+}
+
+std::string RuleRegistry::suggestion(std::string_view key) const { return rule_suggestion(identities(), key); }
+
 bool rule_matches(std::string_view id, std::string_view pattern) {
     return !pattern.empty() && id.substr(0, pattern.size()) == pattern;
 }

@@ -72,21 +72,13 @@ SuppressionFilter::SuppressionFilter(const FileOutline& outline, const RuleRegis
             const uint32_t target = file_scope ? 0 : line.target_line;
             for (size_t k = 0; k < d.ids.size(); ++k) {
                 const auto& id = d.ids[k];
-                const RuleMeta* meta = rules.find(upper(id.text));
+                const RuleMeta* meta = rules.resolve(id.text);  // an ID or a name
                 if (!meta) {
-                    if (!report_unknown_) continue;
-                    const RuleMeta* by_name = nullptr;
-                    for (const auto& m : rules.all())
-                        if (iequals(m.name, id.text)) by_name = &m;
-                    if (by_name)
+                    if (report_unknown_)
                         make(*unknown_meta_, id.range, line,
-                             fmt::format("'{}' is the name of {}: suppressions name rules by ID, write {}", id.text,
-                                         by_name->id, by_name->id));
-                    else
-                        make(*unknown_meta_, id.range, line,
-                             fmt::format("unknown rule '{}' in suppression: no rule has this ID, so the directive "
-                                         "silences nothing (see `osplint rules`)",
-                                         id.text));
+                             fmt::format("unknown rule '{}' in suppression: no rule has this ID or name, so the "
+                                         "directive silences nothing{} (see `osplint rules`)",
+                                         id.text, rules.suggestion(id.text)));
                     continue;
                 }
                 if (meta->id == "OSP001") {

@@ -91,6 +91,25 @@ std::shared_ptr<const Config> ConfigCache::defaults() {
 void ConfigCache::invalidate() {
     std::lock_guard lock(m_);
     entries_.clear();
+    per_path_.clear();
+}
+
+std::shared_ptr<const Config> ConfigCache::for_file(const std::shared_ptr<const Config>& config,
+                                                    const std::optional<fs::path>& file) {
+    if (!config || !file || config->per_path.empty()) return config;
+    std::vector<size_t> tables = config->per_path_matching(*file);
+    if (tables.empty()) return config;
+    std::lock_guard lock(m_);
+    for (auto it = per_path_.begin(); it != per_path_.end();)  // those nothing uses any more
+        it = it->second.base.use_count() == 1 && it->second.config.use_count() == 1 ? per_path_.erase(it)
+                                                                                     : std::next(it);
+    auto& slot = per_path_[{config.get(), tables}];
+    if (!slot.config) {
+        auto derived = std::make_shared<Config>(*config);
+        derived->apply_per_path(tables);
+        slot = {config, std::move(derived)};
+    }
+    return slot.config;
 }
 
 ConfigCache::Lookup ConfigCache::get(const std::optional<fs::path>& dir) {
@@ -101,23 +120,33 @@ ConfigCache::Lookup ConfigCache::get(const std::optional<fs::path>& dir) {
         out.config = defaults();
         return out;
     }
-    std::error_code ec;
-    const auto mtime = fs::last_write_time(*file, ec);
-    const auto size = ec ? 0 : fs::file_size(*file, ec);
+    // A change of the file or of a file it extends is a change of the configuration.
+    auto stamps_of = [&](const std::shared_ptr<const Config>& config) {
+        std::vector<std::pair<fs::file_time_type, std::uintmax_t>> stamps;
+        std::vector<std::string> files{file->string()};
+        if (config) files.insert(files.end(), config->extends.begin(), config->extends.end());
+        for (const auto& f : files) {
+            std::error_code ec;
+            const auto mtime = fs::last_write_time(f, ec);
+            const auto size = ec ? 0 : fs::file_size(f, ec);
+            stamps.emplace_back(mtime, size);
+        }
+        return stamps;
+    };
     const std::string key = file->string();
     auto it = entries_.find(key);
-    if (it != entries_.end() && it->second.mtime == mtime && it->second.size == size) {
+    if (it != entries_.end() && it->second.stamps == stamps_of(it->second.config)) {
         out.config = it->second.config;
         return out;
     }
     out.reloaded = it != entries_.end();
     Entry e;
-    e.mtime = mtime;
-    e.size = size;
     try {
         e.config = std::make_shared<const Config>(load_config(*file));
+        e.stamps = stamps_of(e.config);
     } catch (const std::exception& ex) {
         e.config = defaults();
+        e.stamps = stamps_of(nullptr);
         out.error = std::string("osplint: configuration error: ") + ex.what() + " (using the defaults)";
     }
     out.config = e.config;
@@ -515,6 +544,7 @@ void Server::collect_known(Model& m, const std::optional<std::string>& path) {
 
 void Server::update_model(Model& m, Job& job) {
     auto lookup = configs_.get(config_dir(job.path));
+    lookup.config = configs_.for_file(lookup.config, job.path);
     if (!lookup.error.empty()) {
         log(lookup.error);
         send(make_notification("window/showMessage", {{"type", 1}, {"message", lookup.error}}));

@@ -64,14 +64,23 @@ public:
         bool reloaded = false;  // a file changed since it was last read
     };
     Lookup get(const std::optional<std::filesystem::path>& dir);
+    // The configuration of `file` in it: with the [[per-path]] tables that
+    // match the file applied (the same object for files that match the same).
+    std::shared_ptr<const Config> for_file(const std::shared_ptr<const Config>& config,
+                                           const std::optional<std::filesystem::path>& file);
     void invalidate();
 
 private:
     struct Entry {
-        std::filesystem::file_time_type mtime{};
-        std::uintmax_t size = 0;
+        // Modification time and size of the file and of those it extends.
+        std::vector<std::pair<std::filesystem::file_time_type, std::uintmax_t>> stamps;
         std::shared_ptr<const Config> config;
     };
+    struct Derived {
+        std::shared_ptr<const Config> base;  // held: its address is part of the key
+        std::shared_ptr<const Config> config;
+    };
+    std::map<std::pair<const Config*, std::vector<size_t>>, Derived> per_path_;
     std::shared_ptr<const Config> defaults();
     std::mutex m_;
     std::map<std::string, Entry> entries_;

@@ -1,5 +1,7 @@
 // osplint.toml: machine defaults, travel limits, G/M-code macro registrations,
-// shop macros (same schema as the shipped catalog) and per-rule severities.
+// shop macros (same schema as the shipped catalog), per-rule severities (for
+// every file and per path), the files a directory walk skips, and the shop-wide
+// file a configuration extends.
 #pragma once
 
 #include <array>
@@ -20,8 +22,31 @@ struct TravelLimit {
     double max = 0;
 };
 
+// One `exclude` pattern, or the `paths` of one `[[per-path]]` table, with the
+// directory its patterns are relative to (that of the file that names them).
+struct PathPattern {
+    std::string pattern;
+    std::filesystem::path base;
+    std::string origin;  // the configuration file that names it
+};
+
+// Whether `file` (any path; made absolute against the working directory)
+// matches `pattern`: a pattern without '/' matches any component of the path
+// below `base` (or the file's name when it is elsewhere), one with '/' the
+// path relative to `base` (support/glob.h).
+bool path_matches(const PathPattern& pattern, const std::filesystem::path& file);
+
+// A `[[per-path]]` table: rule severities for the files its patterns match.
+struct PerPathRules {
+    std::vector<PathPattern> paths;
+    std::map<std::string, std::optional<Severity>> rule_severity;
+    std::string origin;
+    uint32_t line = 0;
+};
+
 struct Config {
     std::string path;                    // the file it was read from; empty for defaults
+    std::vector<std::string> extends;    // the files it extends, nearest first (`extend`, chained)
     Units units = Units::Mm;             // [machine] units: when no G20/G21 is in effect
     Plane plane = Plane::G17;            // [machine] plane at program start
     Distance distance = Distance::Absolute;  // [machine] distance at program start (G90)
@@ -30,6 +55,15 @@ struct Config {
     std::map<std::string, std::optional<Severity>> rule_severity;
     bool explain_unknown = false;        // [analysis] explain-unknown: enable OSP303-style notes
     Catalog catalog = Catalog::builtin();  // shipped macros + [macro.NAME] + [macros.gcode]
+    std::vector<PathPattern> exclude;    // `exclude`: what a directory walk skips (inherited ones first)
+    std::vector<PerPathRules> per_path;  // `[[per-path]]`, inherited ones first
+
+    // Whether a directory walk skips `path` (a file or a folder).
+    bool excluded(const std::filesystem::path& path) const;
+    // The `[[per-path]]` tables that apply to `file`, in order.
+    std::vector<size_t> per_path_matching(const std::filesystem::path& file) const;
+    // Applies those tables' rule severities on top of [rules].
+    void apply_per_path(const std::vector<size_t>& tables);
 
     // Effective severity of a rule; nullopt when the rule is off.
     std::optional<Severity> severity_of(std::string_view id, Severity default_severity,
@@ -40,12 +74,21 @@ struct Config {
 // them; api/config.h reads configurations against the built-in rules).
 struct RuleIdentity {
     std::string_view id;
+    std::string_view name;  // "m52-on-call-line": accepted wherever the ID is
     Severity severity;
     bool enabled_by_default;
 };
 using RuleIdentities = std::vector<RuleIdentity>;
 
+// The rule that `key` names: its ID or its name, in any case. The one mapping
+// from what a user writes to a rule (RuleRegistry::resolve uses it too).
+const RuleIdentity* resolve_rule(const RuleIdentities& rules, std::string_view key);
+// " (did you mean 'OSP104'?)" for the ID or name nearest to a key that names
+// no rule; empty when none is near.
+std::string rule_suggestion(const RuleIdentities& rules, std::string_view key);
+
 // Reads and validates configuration text. Throws ConfigError (file, line, key).
+// `extend` and the patterns are relative to the directory of `origin`.
 Config read_config_text(std::string_view text, const std::string& origin, const RuleIdentities& rules);
 // The same for a file.
 Config read_config_file(const std::filesystem::path& file, const RuleIdentities& rules);

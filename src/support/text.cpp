@@ -1,11 +1,48 @@
 #include "support/text.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace osplint {
 
 std::string upper(std::string_view s) {
     std::string out(s);
     for (char& c : out) c = ascii_upper(c);
     return out;
+}
+
+size_t edit_distance(std::string_view a, std::string_view b) {
+    // Optimal string alignment: three rows of the table.
+    std::vector<size_t> two(b.size() + 1), one(b.size() + 1), cur(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) one[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const bool same = ascii_upper(a[i - 1]) == ascii_upper(b[j - 1]);
+            cur[j] = std::min({one[j] + 1, cur[j - 1] + 1, one[j - 1] + (same ? 0 : 1)});
+            if (i > 1 && j > 1 && ascii_upper(a[i - 1]) == ascii_upper(b[j - 2]) &&
+                ascii_upper(a[i - 2]) == ascii_upper(b[j - 1]))
+                cur[j] = std::min(cur[j], two[j - 2] + 1);
+        }
+        std::swap(two, one);
+        std::swap(one, cur);
+    }
+    return one[b.size()];
+}
+
+std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates) {
+    const size_t limit = std::min<size_t>(3, std::max<size_t>(1, word.size() / 3));
+    std::string best;
+    size_t best_d = limit + 1;
+    for (auto c : candidates) {
+        if (c.empty()) continue;
+        const size_t d = edit_distance(word, c);
+        if (d < best_d) {
+            best_d = d;
+            best = std::string(c);
+        }
+    }
+    return best;
 }
 
 bool iequals(std::string_view a, std::string_view b) {

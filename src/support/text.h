@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace osplint {
 
@@ -17,6 +18,13 @@ std::string upper(std::string_view s);
 bool iequals(std::string_view a, std::string_view b);
 // `s` without leading and trailing blanks (space, tab, form feed, vertical tab).
 std::string_view trim_blanks(std::string_view s);
+
+// Edit distance (insertions, deletions, substitutions, swaps of two neighbours),
+// ignoring ASCII case.
+size_t edit_distance(std::string_view a, std::string_view b);
+// The candidate nearest to `word` for a "did you mean" hint: within a third of
+// the word's length (at least 1, at most 3 edits); empty when none is that near.
+std::string closest_match(std::string_view word, const std::vector<std::string_view>& candidates);
 
 // The extension of the last component of a path, upper case, without the dot
 // ("PART.min" -> "MIN"; "" when there is none).

@@ -9,7 +9,7 @@
 //
 //     directive := "osplint" ":" action "=" id { "," id } [ "--" reason ]
 //     action    := "disable" | "disable-file"
-//     id        := a rule ID such as OSP104 (or, reported as a mistake, a rule name)
+//     id        := a rule ID such as OSP104, or a rule name such as m52-on-call-line
 //     reason    := any text up to the closing parenthesis (an OSP comment cannot hold ')')
 //
 // `disable` on a block with executable content applies to that block; on a

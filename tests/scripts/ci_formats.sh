@@ -123,7 +123,7 @@ M30
 EOF
 run --format gcc "$work/S.MIN"
 expect_eq "suppressed findings are not in gcc output; OSP901 is" \
-  "$work/S.MIN:5:25: warning: unknown rule 'OSP1O4' in suppression: no rule has this ID, so the directive silences nothing (see \`osplint rules\`) [OSP901]" \
+  "$work/S.MIN:5:25: warning: unknown rule 'OSP1O4' in suppression: no rule has this ID or name, so the directive silences nothing (did you mean 'OSP104'?) (see \`osplint rules\`) [OSP901]" \
   "$out"
 run --format json "$work/S.MIN"
 reasons=$(node -e '

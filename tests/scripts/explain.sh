@@ -26,6 +26,9 @@ expect "macro by code" 0 '^OG84L ' -- explain G114
 expect "macro by name" 0 '^OZAGR ' -- explain ozagr
 expect "rule page" 0 '^# OSP006 jump-to-duplicated-name' -- explain OSP006
 expect "rule off by default says so" 0 'Off by default' -- explain OSP003
+expect "rule page by name" 0 '^# OSP104 m52-on-call-line' -- explain m52-on-call-line
+expect "rule page by name, capitals" 0 '^# OSP104 m52-on-call-line' -- explain M52-ON-CALL-LINE
+expect "mistyped rule name" 2 "did you mean 'm52-on-call-line'\?" -- explain m52-on-cal-line
 expect "unknown G code" 2 "'G999' is neither a rule ID" -- explain G999
 expect "unknown name" 2 "'NOPE' is neither a rule ID" -- explain NOPE
 exit $fail

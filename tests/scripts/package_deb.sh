@@ -35,7 +35,9 @@ for f in ./usr/bin/osplint ./usr/include/osplint/osplint.h ./usr/include/osplint
   ./usr/share/doc/osplint/LICENSE; do
   grep -qxF "$f" <<<"$contents" && ok "contains $f" || not_ok "does not contain $f"
 done
-for pattern in '/libosplint\.so\.[0-9.]+$' '/libosplint\.a$' '/pkgconfig/osplint\.pc$' '/cmake/osplint/osplintConfig\.cmake$'; do
+for pattern in '/libosplint\.so\.[0-9.]+$' '/libosplint\.a$' '/pkgconfig/osplint\.pc$' '/cmake/osplint/osplintConfig\.cmake$' \
+  '/usr/share/man/man1/osplint\.1(\.gz)?$' '/usr/share/bash-completion/completions/osplint$' \
+  '/usr/share/zsh/vendor-completions/_osplint$'; do
   grep -qE "$pattern" <<<"$contents" && ok "contains $pattern" || not_ok "contains nothing like $pattern"
 done
 [[ $(dpkg-deb -f "$deb" Package) == osplint && $(dpkg-deb -f "$deb" Version) == "$version" ]] &&

@@ -164,3 +164,149 @@ TEST_CASE("a configuration path that is a directory or missing is an error") {
     CHECK_THROWS_WITH_AS(load_config(dir / "none.toml"), doctest::Contains("no such configuration file"), ConfigError);
     std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("rule names serve as IDs in [rules] and [[per-path]]; a mistyped one gets a suggestion") {
+    Config c = parse_config("[rules]\nm52-on-call-line = \"warning\"\nosp202 = \"off\"\n", "osplint.toml");
+    CHECK(c.severity_of("OSP104", Severity::Error, true) == Severity::Warning);
+    CHECK_FALSE(c.severity_of("OSP202", Severity::Warning, true).has_value());
+    auto e = error_of("[rules]\nm52-on-cal-line = \"off\"\n");
+    CHECK(e.key() == "rules.m52-on-cal-line");
+    CHECK(std::string(e.what()).find("did you mean 'm52-on-call-line'?") != std::string::npos);
+    auto e2 = error_of("[[per-path]]\npaths = [\"probe/**\"]\nrules = { OSP14 = \"off\" }\n");
+    CHECK(e2.key() == "per-path.rules.OSP14");
+    CHECK(e2.line() == 3);
+    CHECK(std::string(e2.what()).find("did you mean 'OSP") != std::string::npos);
+}
+
+TEST_CASE("exclude and [[per-path]] are read relative to the file's directory") {
+    Config c = parse_config(R"(exclude = ["old/**", "*.BAK.MIN"]
+[rules]
+OSP204 = "error"
+[[per-path]]
+paths = ["probe/**"]
+rules = { OSP204 = "off", OSP1 = "warning", m52-on-call-line = "info" }
+)",
+                            "shop/osplint.toml");
+    CHECK(c.excluded("shop/old/P1.MIN"));
+    CHECK(c.excluded("shop/old/deep/P1.MIN"));
+    CHECK(c.excluded("shop/old"));
+    CHECK(c.excluded("shop/a/P1.BAK.MIN"));
+    CHECK_FALSE(c.excluded("shop/P1.MIN"));
+    CHECK_FALSE(c.excluded("shop/older/P1.MIN"));
+    CHECK_FALSE(c.excluded("other/old/P1.MIN"));  // patterns with '/' hold below the file's directory only
+    CHECK(c.excluded("other/P1.BAK.MIN"));        // one without '/' is a file name anywhere
+    REQUIRE(c.per_path.size() == 1);
+    CHECK(c.per_path_matching("shop/P1.MIN").empty());
+    auto m = c.per_path_matching("shop/probe/P2.MIN");
+    REQUIRE(m.size() == 1);
+    Config probe = c;
+    probe.apply_per_path(m);
+    CHECK_FALSE(probe.severity_of("OSP204", Severity::Warning, true).has_value());
+    CHECK(probe.severity_of("OSP104", Severity::Error, true) == Severity::Info);  // its name wins over OSP1
+    CHECK(probe.severity_of("OSP101", Severity::Error, true) == Severity::Warning);  // the prefix OSP1
+    CHECK(probe.severity_of("OSP110", Severity::Error, true) == Severity::Warning);
+    Config zero = parse_config("[rules]\nOSP0 = \"off\"\nOSP1 = \"off\"\nOSP10 = \"info\"\n", "osplint.toml");
+    CHECK(zero.severity_of("OSP001", Severity::Error, true) == Severity::Error);  // by its own key only
+    CHECK_FALSE(zero.severity_of("OSP002", Severity::Error, true).has_value());
+    CHECK(zero.severity_of("OSP104", Severity::Error, true) == Severity::Info);  // the longer prefix wins
+    CHECK_FALSE(zero.severity_of("OSP110", Severity::Error, true).has_value());
+    CHECK(c.severity_of("OSP204", Severity::Warning, true) == Severity::Error);
+
+    SUBCASE("mistakes") {
+        CHECK(error_of("exclude = \"old/**\"\n").key() == "exclude");
+        CHECK(error_of("exclude = [\"old/[ab\"]\n").key() == "exclude");
+        CHECK(error_of("[per-path]\npaths = [\"a\"]\n").key() == "per-path");
+        CHECK(error_of("[[per-path]]\nrules = { OSP204 = \"off\" }\n").key() == "per-path.paths");
+        CHECK(error_of("[[per-path]]\npaths = [\"a\"]\nrule = {}\n").key() == "per-path.rule");
+        auto e = error_of("[[per-path]]\npaths = [\"a\"]\nrules = { OSP204 = \"loud\" }\n");
+        CHECK(e.key() == "per-path.rules.OSP204");
+        CHECK(e.line() == 3);
+    }
+}
+
+namespace {
+
+struct TempTree {
+    std::filesystem::path root;
+    explicit TempTree(const std::string& name)
+        : root(std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
+        std::filesystem::remove_all(root);
+        std::filesystem::create_directories(root);
+    }
+    ~TempTree() { std::filesystem::remove_all(root); }
+    std::filesystem::path write(const std::string& rel, const std::string& text) const {
+        auto p = root / rel;
+        std::filesystem::create_directories(p.parent_path());
+        std::ofstream(p, std::ios::binary) << text;
+        return p;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("extend: the file inherits the one it names, and overrides it") {
+    TempTree t("osplint-extend");
+    t.write("shop/osplint.toml", R"(exclude = ["*.BAK.MIN"]
+[machine]
+units = "inch"
+plane = "G18"
+[rules]
+OSP204 = "off"
+OSP202 = "off"
+[[per-path]]
+paths = ["probe/**"]
+rules = { OSP104 = "off" }
+)");
+    t.write("base/osplint.toml", "extend = \"../shop/osplint.toml\"\n[machine]\nplane = \"G19\"\n");
+    auto cell = t.write("base/cell/osplint.toml",
+                        "extend = \"../osplint.toml\"\nexclude = [\"old/**\"]\n[rules]\nOSP204 = \"warning\"\n");
+    Config c = load_config(cell);
+    CHECK(c.units == Units::Inch);  // from shop, two files up the chain
+    CHECK(c.plane == Plane::G19);   // base overrides shop
+    CHECK(c.severity_of("OSP204", Severity::Info, true) == Severity::Warning);  // cell overrides shop
+    CHECK_FALSE(c.severity_of("OSP202", Severity::Warning, true).has_value());
+    REQUIRE(c.extends.size() == 2);
+    CHECK(c.extends[0] == (t.root / "base/osplint.toml").string());
+    CHECK(c.extends[1].find("shop/osplint.toml") != std::string::npos);
+    // Patterns stay relative to the file that names them.
+    CHECK(c.excluded(t.root / "base/cell/old/P.MIN"));
+    CHECK(c.excluded(t.root / "base/cell/P.BAK.MIN"));
+    CHECK_FALSE(c.excluded(t.root / "base/old/P.MIN"));
+    CHECK(c.per_path_matching(t.root / "shop/probe/P.MIN").size() == 1);
+    CHECK(c.per_path_matching(t.root / "base/cell/probe/P.MIN").empty());
+    const std::string shown = dump_config(c);
+    CHECK(shown.find("# extends ") != std::string::npos);
+    CHECK(shown.find("'old/**',  # " + cell.string()) != std::string::npos);
+    CHECK(shown.find("[[per-path]]  # ") != std::string::npos);
+}
+
+TEST_CASE("extend: a missing file and a cycle are errors naming both files") {
+    TempTree t("osplint-extend-bad");
+    auto a = t.write("a/osplint.toml", "extend = \"../b/osplint.toml\"\n");
+    t.write("b/osplint.toml", "[machine]\nunits = \"mm\"\nextend = 3\n");
+    auto missing = t.write("m/osplint.toml", "\n\nextend = \"../shop/osplint.toml\"\n");
+    try {
+        load_config(missing);
+        FAIL("no error for a missing file");
+    } catch (const ConfigError& e) {
+        CHECK(e.file() == missing.string());
+        CHECK(e.line() == 3);
+        CHECK(e.key() == "extend");
+        CHECK(std::string(e.what()).find("shop/osplint.toml, does not exist") != std::string::npos);
+    }
+    auto cyc = t.write("c/osplint.toml", "extend = \"../d/osplint.toml\"\n");
+    auto d = t.write("d/osplint.toml", "extend = \"../c/osplint.toml\"\n");
+    try {
+        load_config(cyc);
+        FAIL("no error for a cycle");
+    } catch (const ConfigError& e) {
+        CHECK(e.file() == (t.root / "d/osplint.toml").string());
+        CHECK(e.key() == "extend");
+        CHECK(std::string(e.what()).find("extend each other") != std::string::npos);
+        CHECK(std::string(e.what()).find("c/osplint.toml") != std::string::npos);
+    }
+    auto self = t.write("s/osplint.toml", "extend = \"osplint.toml\"\n");
+    CHECK_THROWS_WITH_AS(load_config(self), doctest::Contains("extend each other"), ConfigError);
+    (void)a;
+    (void)d;
+}

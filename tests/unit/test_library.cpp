@@ -55,6 +55,18 @@ TEST_CASE("library: a buffer and a file with the default configuration") {
     CHECK(from_disk.diagnostics[0].message == d.message);
 }
 
+TEST_CASE("library: [[per-path]] tables apply to the paths they match") {
+    const std::string text = slurp(kSource / "examples" / "mistakes" / "M52CALL.MIN");
+    const auto config = osplint::Configuration::parse(
+        "[[per-path]]\npaths = [\"probe/**\"]\nrules = { m52-on-call-line = \"info\" }\n", "shop/osplint.toml");
+    osplint::FileResult probe = osplint::check_text("shop/probe/M52CALL.MIN", text, config);
+    REQUIRE(rules_of(probe) == std::vector<std::string>{"OSP104"});
+    CHECK(probe.diagnostics[0].severity == osplint::Severity::Info);
+    osplint::FileResult other = osplint::check_text("shop/M52CALL.MIN", text, config);
+    REQUIRE(rules_of(other) == std::vector<std::string>{"OSP104"});
+    CHECK(other.diagnostics[0].severity == osplint::Severity::Error);
+}
+
 TEST_CASE("library: configuration errors are thrown, a missing osplint.toml is not an error") {
     // A fresh directory of the temporary directory: no osplint.toml there or above.
     const fs::path dir = fs::temp_directory_path() / "osplint-library-test";

@@ -491,6 +491,60 @@ TEST_CASE("lsp: configuration: nearest osplint.toml, reloaded when it changes, b
     fs::remove_all(dir);
 }
 
+TEST_CASE("lsp: configuration: [[per-path]] tables apply to the documents they match") {
+    const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-pp-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "probe");
+    std::ofstream(dir / "osplint.toml", std::ios::binary)
+        << "[rules]\nOSP104 = \"warning\"\n[[per-path]]\npaths = [\"probe/**\"]\nrules = { m52-on-call-line = \"info\" }\n";
+    const std::string probe = path_to_uri((dir / "probe" / "PART.MIN").string());
+    const std::string other = path_to_uri((dir / "PART.MIN").string());
+    {
+        Session s;
+        s.initialize();
+        s.open(probe, kProgram, 1);
+        json l1 = s.diagnostics(probe, 1)["diagnostics"];
+        const json* d = find_code(l1, "OSP104");
+        REQUIRE(d);
+        CHECK((*d)["severity"] == 3);
+        s.open(other, kProgram, 1);
+        json l2 = s.diagnostics(other, 1)["diagnostics"];
+        const json* d2 = find_code(l2, "OSP104");
+        REQUIRE(d2);
+        CHECK((*d2)["severity"] == 2);
+    }
+    fs::remove_all(dir);
+}
+
+TEST_CASE("lsp: configuration: a change of the file it extends is picked up") {
+    const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-ext-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "shop");
+    fs::create_directories(dir / "cell");
+    auto shop = [&](const std::string& content) {
+        std::ofstream(dir / "shop" / "osplint.toml", std::ios::binary | std::ios::trunc) << content;
+    };
+    shop("[rules]\nOSP104 = \"warning\"\n");
+    std::ofstream(dir / "cell" / "osplint.toml", std::ios::binary) << "extend = \"../shop/osplint.toml\"\n";
+    const std::string uri = path_to_uri((dir / "cell" / "PART.MIN").string());
+    {
+        Session s;
+        s.initialize();
+        s.open(uri, kProgram, 1);
+        json l1 = s.diagnostics(uri, 1)["diagnostics"];
+        const json* d = find_code(l1, "OSP104");
+        REQUIRE(d);
+        CHECK((*d)["severity"] == 2);
+        shop("[rules]\nOSP104 = \"info\"   # the shop changed it\n");
+        s.change(uri, 2, json::array({{{"range", range(13, 3, 13, 3)}, {"text", " "}}}));
+        json l2 = s.diagnostics(uri, 2)["diagnostics"];
+        const json* d2 = find_code(l2, "OSP104");
+        REQUIRE(d2);
+        CHECK((*d2)["severity"] == 3);
+    }
+    fs::remove_all(dir);
+}
+
 TEST_CASE("lsp: subprograms beside the document are known (no OSP005 for them)") {
     const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-sub-" + std::to_string(::getpid()));
     fs::remove_all(dir);

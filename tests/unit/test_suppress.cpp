@@ -295,3 +295,16 @@ TEST_CASE("baseline: a version other than 1 is rejected, however large") {
                          std::runtime_error);
     CHECK(parse_baseline("{\"version\": 1, \"entries\": []}", "b.json").entries.empty());
 }
+
+TEST_CASE("a directive may name the rule by its name, and a mistyped one gets a suggestion") {
+    std::string text = "O1000\n" + kM52 + " (osplint: disable=m52-on-call-line)\n" + kM52 +
+                       " (osplint: disable=m52-on-cal-line)\nM30\n";
+    FileResult r = check_text("A.MIN", text, Config{});
+    auto left = of_rule(r, "OSP104");
+    REQUIRE(left.size() == 1);
+    CHECK(left[0]->range.start.line == 3);
+    REQUIRE(suppressed_of(r, "OSP104").size() == 1);
+    auto unknown = of_rule(r, "OSP901");
+    REQUIRE(unknown.size() == 1);
+    CHECK(unknown[0]->message.find("did you mean 'm52-on-call-line'?") != std::string::npos);
+}

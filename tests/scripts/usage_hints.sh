@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Usage errors: a mistyped subcommand or long option gets the nearest one
+# suggested ("did you mean"), and the exit code is 2 as for every usage error.
+set -u
+osplint=$(realpath "${1:?usage: usage_hints.sh path/to/osplint}")
+cd "$(mktemp -d)" || exit 2
+printf 'O1000\nG0 X0\nM30\n' > P.MIN
+fail=0
+expect() {  # expect NAME EXIT PATTERN -- ARGS...
+  local name=$1 code=$2 pattern=$3
+  shift 4
+  local out rc
+  out=$("$osplint" "$@" 2>&1)
+  rc=$?
+  if [[ $rc != "$code" ]]; then
+    echo "FAIL: $name: exit $rc, expected $code"; printf '%s\n' "$out" | head -5; fail=1
+  elif ! grep -Eq -- "$pattern" <<<"$out"; then
+    echo "FAIL: $name: output lacks /$pattern/"; printf '%s\n' "$out" | head -5; fail=1
+  else
+    echo "ok: $name"
+  fi
+}
+expect "subcommand" 2 "unknown command 'chek': did you mean 'check'\?" -- chek P.MIN
+expect "subcommand, swapped letters" 2 "did you mean 'rules'\?" -- ruels
+expect "subcommand, capitals" 2 "did you mean 'explain'\?" -- EXPLIAN OSP104
+expect "subcommand, nothing near" 2 "unknown command 'frobnicate' \(see osplint --help\)" -- frobnicate
+expect "long option of check" 2 "unknown option '--formt': did you mean '--format'\?" -- check --formt json P.MIN
+expect "long option with =" 2 "unknown option '--fial-on': did you mean '--fail-on'\?" -- check --fial-on=error P.MIN
+expect "long option of config" 2 "unknown option '--confg': did you mean '--config'\?" -- config --confg x.toml
+expect "long option of the application" 2 "unknown option '--verison': did you mean '--version'\?" -- --verison
+expect "long option of trace" 2 "did you mean '--svg'\?" -- trace --svgg out.svg P.MIN
+expect "option nothing is near" 2 "unknown option '--xyzzy-plugh'" -- check --xyzzy-plugh P.MIN
+expect "the parser's own message stays" 2 "not expected" -- check --formt json P.MIN
+expect "a correct command is not touched" 0 "in 1 file" -- check --format text P.MIN
+exit $fail
