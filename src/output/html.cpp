@@ -403,7 +403,8 @@ private:
                 s += "</li>\n";
             }
             for (const auto& f : d.fixes) {
-                s += "<li class=\"fix\"><strong>Fix:</strong> " + html_escape(f.title);
+                s += std::string("<li class=\"fix\"><strong>") + (f.safe ? "Fix" : "Fix (unsafe)") + ":</strong> " +
+                     html_escape(f.title);
                 for (const auto& e : f.edits) {
                     const bool insert = e.range.bytes.empty();
                     if (insert && e.replacement.empty()) continue;
