@@ -5,14 +5,7 @@
 # findings without the summary line, and the exit codes do not change.
 set -u
 osplint=${1:?usage: cli_report_options.sh path/to/osplint}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-ok() { echo "ok: $*"; }
-not_ok() {
-  echo "not ok: $*"
-  fail=1
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib/common.bash"
 export NO_COLOR=1
 
 full=$("$osplint" check -j 1 --fold 0 examples/)

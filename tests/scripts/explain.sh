@@ -3,22 +3,8 @@
 # cards by G code (any case), and a clear error for anything else.
 set -u
 osplint=$(realpath "${1:?usage: explain.sh path/to/osplint}")
-cd "$(mktemp -d)" || exit 2  # no osplint.toml around: the built-in catalog
-fail=0
-expect() {  # expect NAME EXIT PATTERN -- ARGS...
-  local name=$1 code=$2 pattern=$3
-  shift 4
-  local out rc
-  out=$("$osplint" "$@" 2>&1)
-  rc=$?
-  if [[ $rc != "$code" ]]; then
-    echo "FAIL: $name: exit $rc, expected $code"; printf '%s\n' "$out" | head -5; fail=1
-  elif ! grep -Eq -- "$pattern" <<<"$out"; then
-    echo "FAIL: $name: output lacks /$pattern/"; printf '%s\n' "$out" | head -5; fail=1
-  else
-    echo "ok: $name"
-  fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib/common.bash"
+cd "$tmp" || exit 2  # no osplint.toml around: the built-in catalog
 expect "fixed cycle G81" 0 '^G81 ' -- explain G81
 expect "fixed cycle, lower case" 0 '^G83 ' -- explain g83
 expect "fixed cycle card has its format" 0 'G84' -- explain G84

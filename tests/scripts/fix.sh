@@ -7,14 +7,7 @@
 set -u
 osplint=${1:?usage: fix.sh path/to/osplint}
 osplint=$(cd "$(dirname "$osplint")" && pwd)/$(basename "$osplint")
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-ok() { echo "ok: $*"; }
-not_ok() {
-  echo "not ok: $*"
-  fail=1
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib/common.bash"
 export NO_COLOR=1
 
 # The findings of a tree as "path rule message" lines (sorted), from JSON.

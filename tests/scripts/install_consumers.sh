@@ -14,14 +14,7 @@ set -euo pipefail
 osplint=${1:?usage: install_consumers.sh path/to/build/osplint}
 build=$(cd "$(dirname "$osplint")" && pwd)
 src=$(pwd)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-ok() { echo "ok: $*"; }
-not_ok() {
-  echo "not ok: $*"
-  fail=1
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib/common.bash"
 
 sanitize=""
 if grep -q '^OSPLINT_SANITIZE:BOOL=ON' "$build/CMakeCache.txt"; then

@@ -8,14 +8,7 @@ set -euo pipefail
 osplint=${1:?usage: package_deb.sh path/to/build/osplint}
 build=$(cd "$(dirname "$osplint")" && pwd)
 src=$(pwd)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-ok() { echo "ok: $*"; }
-not_ok() {
-  echo "not ok: $*"
-  fail=1
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib/common.bash"
 
 if ! (cd "$build" && cpack -G DEB -B "$tmp/out" >"$tmp/cpack.log" 2>&1); then
   echo "not ok: cpack fails"

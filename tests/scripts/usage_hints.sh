@@ -3,23 +3,9 @@
 # suggested ("did you mean"), and the exit code is 2 as for every usage error.
 set -u
 osplint=$(realpath "${1:?usage: usage_hints.sh path/to/osplint}")
-cd "$(mktemp -d)" || exit 2
+source "$(dirname "${BASH_SOURCE[0]}")/lib/common.bash"
+cd "$tmp" || exit 2
 printf 'O1000\nG0 X0\nM30\n' > P.MIN
-fail=0
-expect() {  # expect NAME EXIT PATTERN -- ARGS...
-  local name=$1 code=$2 pattern=$3
-  shift 4
-  local out rc
-  out=$("$osplint" "$@" 2>&1)
-  rc=$?
-  if [[ $rc != "$code" ]]; then
-    echo "FAIL: $name: exit $rc, expected $code"; printf '%s\n' "$out" | head -5; fail=1
-  elif ! grep -Eq -- "$pattern" <<<"$out"; then
-    echo "FAIL: $name: output lacks /$pattern/"; printf '%s\n' "$out" | head -5; fail=1
-  else
-    echo "ok: $name"
-  fi
-}
 expect "subcommand" 2 "unknown command 'chek': did you mean 'check'\?" -- chek P.MIN
 expect "subcommand, swapped letters" 2 "did you mean 'rules'\?" -- ruels
 expect "subcommand, capitals" 2 "did you mean 'explain'\?" -- EXPLIAN OSP104
