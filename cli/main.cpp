@@ -92,8 +92,9 @@ namespace {
 
 int cmd_rules() {
     for (const auto& m : all_rules()) {
-        std::cout << fmt::format("{}  {:<32} {:<8} {}{}\n", m.id, m.name, severity_name(m.severity), m.summary,
-                                 m.enabled_by_default ? "" : " (off by default)");
+        const char* fix = m.fix == FixSafety::Safe ? " [fix]" : m.fix == FixSafety::Unsafe ? " [unsafe fix]" : "";
+        std::cout << fmt::format("{}  {:<32} {:<8} {}{}{}\n", m.id, m.name, severity_name(m.severity), m.summary,
+                                 m.enabled_by_default ? "" : " (off by default)", fix);
     }
     return 0;
 }

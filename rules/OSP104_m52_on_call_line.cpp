@@ -5,7 +5,8 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{"OSP104", "m52-on-call-line", Severity::Error,
-                         "M52 on the CALL/MODIN line of a macro is ignored; command PM=52"};
+                         "M52 on the CALL/MODIN line of a macro is ignored; command PM=52",
+                         true, FixSafety::Safe};
 
 class M52OnCallLine final : public RuleBase<M52OnCallLine> {
 public:

@@ -7,7 +7,8 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{"OSP207", "code-not-alone", Severity::Error,
-                         "M843 or M845 in a block with any other word"};
+                         "M843 or M845 in a block with any other word",
+                         true, FixSafety::Safe};
 
 class CodeNotAlone final : public RuleBase<CodeNotAlone> {
 public:

@@ -8,7 +8,8 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{"OSP208", "g114-cancelled-by-g80", Severity::Warning,
-                         "G114 (OG84L) cancelled by G80: the spindle and feed overrides stay disabled"};
+                         "G114 (OG84L) cancelled by G80: the spindle and feed overrides stay disabled",
+                         true, FixSafety::Unsafe};
 
 class G114CancelledByG80 final : public RuleBase<G114CancelledByG80> {
 public:

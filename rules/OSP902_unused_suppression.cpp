@@ -9,7 +9,7 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{"OSP902", "unused-suppression", Severity::Info,
-                         "An osplint suppression directive silences no finding", false};
+                         "An osplint suppression directive silences no finding", false, FixSafety::Safe};
 
 class UnusedSuppression final : public RuleBase<UnusedSuppression> {
 public:

@@ -89,6 +89,7 @@ typedef struct osplint_diagnostic {
     const char* line_text; /* the text of the line the range starts on */
     const char* fix_title;
     size_t note_count;     /* notes: osplint_diagnostic_note */
+    int fix_safe;          /* 1 when the first fix is safe (`osplint check --fix` applies it), else 0 */
 } osplint_diagnostic;
 
 typedef struct osplint_config osplint_config;

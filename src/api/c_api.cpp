@@ -90,6 +90,7 @@ osplint_status deliver(osplint::FileResult&& file, osplint_result** out, char** 
         v.line_text = d.line_text.c_str();
         v.fix_title = d.fixes.empty() ? nullptr : d.fixes.front().title.c_str();
         v.note_count = d.notes.size();
+        v.fix_safe = !d.fixes.empty() && d.fixes.front().safe ? 1 : 0;
         r->views.push_back(v);
     }
     *out = r;

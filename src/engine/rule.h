@@ -29,12 +29,17 @@ inline constexpr std::string_view kSyntaxErrorRule = "OSP001";
 class Catalog;
 struct Config;
 
+// Whether a rule's findings carry a fix, and of which kind (Fix::safe): the
+// rule's doc page says the same in its header (the unit tests compare them).
+enum class FixSafety { None, Safe, Unsafe };
+
 struct RuleMeta {
     std::string_view id;        // "OSP104", never reused
     std::string_view name;      // "m52-on-call-line"
     Severity severity;          // default severity
     std::string_view summary;   // one line for `osplint rules`
     bool enabled_by_default = true;
+    FixSafety fix = FixSafety::None;
 };
 
 struct ProgramView {

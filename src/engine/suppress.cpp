@@ -217,13 +217,14 @@ std::vector<Diagnostic> SuppressionFilter::finish() {
                 uint32_t b = dir.comment.begin;
                 while (b > l.line_start && is_blank(l.text[b - 1 - l.line_start])) --b;
                 const ByteRange cut{b, dir.comment.end};
-                d.fixes.push_back({"Remove the unused directive", {{range_on(l.line, l.line_start, l.text, cut), ""}}});
+                // Safe: a comment the control ignores.
+                d.fixes.push_back({"Remove the unused directive", {{range_on(l.line, l.line_start, l.text, cut), ""}}, true});
             } else if (all_valid && unused_here == 1 && others_used == others_total && others_total > 0) {
                 const ByteRange cut = e.index + 1 < dir.ids.size()
                                           ? ByteRange{id.range.begin, dir.ids[e.index + 1].range.begin}
                                           : ByteRange{dir.ids[e.index - 1].range.end, id.range.end};
                 d.fixes.push_back({fmt::format("Remove {} from the directive", id.text),
-                                   {{range_on(l.line, l.line_start, l.text, cut), ""}}});
+                                   {{range_on(l.line, l.line_start, l.text, cut), ""}}, true});
             }
         }
     }

@@ -141,6 +141,7 @@ TEST_CASE("C library: configurations, checks, results and errors") {
     CHECK(d->end_column == 61);
     CHECK(text.substr(d->byte_begin, d->byte_end - d->byte_begin) == "M52");
     CHECK(std::string(d->fix_title) == "Replace M52 by PM=52");
+    CHECK(d->fix_safe == 1);
     CHECK(std::string(d->line_text).find("CALL OZAGR PX=-70.") == 0);
     REQUIRE(d->note_count == 1);
     CHECK(std::string(osplint_diagnostic_note(result, 0, 0)).find("M52 commanded") != std::string::npos);
