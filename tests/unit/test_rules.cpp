@@ -9,6 +9,7 @@
 //   exactly; the clean examples have none at warning or error.
 #include <doctest/doctest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 
@@ -57,10 +58,52 @@ bool cli_is_program(const fs::path& p) {
     return ext == ".MIN" || ext == ".SSB" || ext == ".SUB" || ext == ".SDF" || ext == ".LIB" || ext == ".NC";
 }
 
+// The fixes of a rule's findings are what its metadata says.
+void check_fixes_agree(const RuleMeta& meta, const std::vector<Diagnostic>& found) {
+    for (const auto& d : found) {
+        if (meta.fix == FixSafety::None) CHECK_MESSAGE(d.fixes.empty(), d.rule << " offers a fix its metadata does not declare");
+        for (const auto& f : d.fixes)
+            CHECK_MESSAGE(f.safe == (meta.fix == FixSafety::Safe),
+                          "fix '" << f.title << "' is " << (f.safe ? "safe" : "unsafe") << ", not as its metadata says");
+    }
+}
+
+// The rules the rule tests look at: every one, or the one OSPLINT_ONLY_RULE
+// names (scripts/quick-test OSP104).
+std::vector<RuleMeta> rules_under_test() {
+    std::vector<RuleMeta> out;
+    const char* only = std::getenv("OSPLINT_ONLY_RULE");
+    for (const auto& m : all_rules())
+        if (!only || !*only || m.id == only || m.name == only) out.push_back(m);
+    REQUIRE_MESSAGE(!out.empty(), "no rule " << std::string(only ? only : ""));
+    return out;
+}
+
 }  // namespace
 
+TEST_CASE("every rule doc's header says the rule's default severity, whether it is on, and its fix") {
+    for (const auto& meta : rules_under_test()) {
+        CAPTURE(meta.id);
+        auto doc = embedded::find("docs/rules/" + std::string(meta.id) + ".md");
+        REQUIRE(doc.has_value());
+        CHECK(doc->substr(0, doc->find('\n')) == "# " + std::string(meta.id) + " " + std::string(meta.name));
+        const size_t at = doc->find("**Default severity:** ");
+        REQUIRE_MESSAGE(at != std::string_view::npos, "no **Default severity:** line");
+        const size_t end = doc->find("\n\n", at);
+        const std::string header(doc->substr(at, end - at));
+        CAPTURE(header);
+        CHECK(header.rfind("**Default severity:** " + std::string(severity_name(meta.severity)), 0) == 0);
+        const bool says_off = header.find("ff by default") != std::string::npos;
+        CHECK_MESSAGE(says_off == !meta.enabled_by_default, "the header and the metadata disagree on off by default");
+        const bool any_fix = header.find("Fix available") != std::string::npos;
+        CHECK(any_fix == (meta.fix != FixSafety::None));
+        if (meta.fix == FixSafety::Safe) CHECK(header.find("Fix available (safe") != std::string::npos);
+        if (meta.fix == FixSafety::Unsafe) CHECK(header.find("Fix available (unsafe") != std::string::npos);
+    }
+}
+
 TEST_CASE("every rule has fixtures that pass with only that rule enabled") {
-    for (const auto& meta : all_rules()) {
+    for (const auto& meta : rules_under_test()) {
         fs::path dir = source_dir() / "tests" / "rules" / std::string(meta.id);
         CAPTURE(meta.id);
         auto files = programs_in(dir);
@@ -81,13 +124,14 @@ TEST_CASE("every rule has fixtures that pass with only that rule enabled") {
             FileResult r = check_text(f.string(), text, config, options);
             auto problems = compare(expected, r.diagnostics, {});
             for (const auto& p : problems) FAIL_CHECK(p);
+            check_fixes_agree(meta, r.diagnostics);
         }
         CHECK_MESSAGE(expected_total > 0, "the fixtures of " << meta.id << " never expect it to fire");
     }
 }
 
 TEST_CASE("every rule doc's problematic example fires the rule and its correct example does not") {
-    for (const auto& meta : all_rules()) {
+    for (const auto& meta : rules_under_test()) {
         CAPTURE(meta.id);
         auto doc = embedded::find("docs/rules/" + std::string(meta.id) + ".md");
         REQUIRE_MESSAGE(doc.has_value(), "missing docs/rules/" << meta.id << ".md");
@@ -104,6 +148,7 @@ TEST_CASE("every rule doc's problematic example fires the rule and its correct e
         auto rb = check_text("problematic.MIN", *bad, config, options);
         auto rg = check_text("correct.MIN", *good, config, options);
         CHECK_MESSAGE(!rb.diagnostics.empty(), "problematic example does not fire");
+        check_fixes_agree(meta, rb.diagnostics);
         for (const auto& d : rg.diagnostics) FAIL_CHECK("correct example fires: " << d.message);
     }
 }
