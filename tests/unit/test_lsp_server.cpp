@@ -23,6 +23,14 @@ namespace {
 
 const std::string kUri = "untitled:M52CALL.MIN";
 
+// The LSP severity of the OSP104 finding published for `uri` at `version`.
+int osp104_severity(Session& s, const std::string& uri, int version) {
+    json list = s.diagnostics(uri, version)["diagnostics"];
+    const json* d = find_code(list, "OSP104");
+    REQUIRE(d);
+    return (*d)["severity"].get<int>();
+}
+
 const std::string kProgram =
     "O3106\n"                                                         // 0
     "N1 (T31 BIG BACK C'BORE BAR)\n"                                  // 1
@@ -458,19 +466,13 @@ TEST_CASE("lsp: configuration: nearest osplint.toml, reloaded when it changes, b
         Session s;
         s.initialize();
         s.open(uri, kProgram, 1);
-        json l1 = s.diagnostics(uri, 1)["diagnostics"];
-        const json* d = find_code(l1, "OSP104");
-        REQUIRE(d);
-        CHECK((*d)["severity"] == 2);
+        CHECK(osp104_severity(s, uri, 1) == 2);
 
         // Changed on disk (size and contents): picked up before the next analysis.
         write("[rules]\nOSP104 = \"info\"   # changed\n");
         s.notify("workspace/didChangeWatchedFiles",
                  {{"changes", json::array({{{"uri", path_to_uri((dir / "osplint.toml").string())}, {"type", 2}}})}});
-        json l2 = s.diagnostics(uri, 1)["diagnostics"];
-        const json* d2 = find_code(l2, "OSP104");
-        REQUIRE(d2);
-        CHECK((*d2)["severity"] == 3);
+        CHECK(osp104_severity(s, uri, 1) == 3);
 
         // Broken: an error message, and the defaults.
         write("[rules\nOSP104 = \n");
@@ -478,10 +480,7 @@ TEST_CASE("lsp: configuration: nearest osplint.toml, reloaded when it changes, b
         json msg = s.notification("window/showMessage");
         CHECK(msg["params"]["type"] == 1);
         CHECK(msg["params"]["message"].get<std::string>().find("osplint.toml") != std::string::npos);
-        json l3 = s.diagnostics(uri, 1)["diagnostics"];
-        const json* d3 = find_code(l3, "OSP104");
-        REQUIRE(d3);
-        CHECK((*d3)["severity"] == 1);
+        CHECK(osp104_severity(s, uri, 1) == 1);
 
         // Fixed again: an edit is enough (the modification time is checked).
         write("[rules]\nOSP104 = \"off\"\n");
@@ -503,15 +502,9 @@ TEST_CASE("lsp: configuration: [[per-path]] tables apply to the documents they m
         Session s;
         s.initialize();
         s.open(probe, kProgram, 1);
-        json l1 = s.diagnostics(probe, 1)["diagnostics"];
-        const json* d = find_code(l1, "OSP104");
-        REQUIRE(d);
-        CHECK((*d)["severity"] == 3);
+        CHECK(osp104_severity(s, probe, 1) == 3);
         s.open(other, kProgram, 1);
-        json l2 = s.diagnostics(other, 1)["diagnostics"];
-        const json* d2 = find_code(l2, "OSP104");
-        REQUIRE(d2);
-        CHECK((*d2)["severity"] == 2);
+        CHECK(osp104_severity(s, other, 1) == 2);
     }
     fs::remove_all(dir);
 }
@@ -531,16 +524,10 @@ TEST_CASE("lsp: configuration: a change of the file it extends is picked up") {
         Session s;
         s.initialize();
         s.open(uri, kProgram, 1);
-        json l1 = s.diagnostics(uri, 1)["diagnostics"];
-        const json* d = find_code(l1, "OSP104");
-        REQUIRE(d);
-        CHECK((*d)["severity"] == 2);
+        CHECK(osp104_severity(s, uri, 1) == 2);
         shop("[rules]\nOSP104 = \"info\"   # the shop changed it\n");
         s.change(uri, 2, json::array({{{"range", range(13, 3, 13, 3)}, {"text", " "}}}));
-        json l2 = s.diagnostics(uri, 2)["diagnostics"];
-        const json* d2 = find_code(l2, "OSP104");
-        REQUIRE(d2);
-        CHECK((*d2)["severity"] == 3);
+        CHECK(osp104_severity(s, uri, 2) == 3);
     }
     fs::remove_all(dir);
 }
