@@ -151,7 +151,6 @@ bool compose_edits(ByteSource& original, const std::vector<Edit>& earlier, const
         uint64_t lo = later[k].begin, hi = later[k].end;
         const size_t first_i = i;
         const size_t first_k = k;
-        if (i < earlier.size() && spans[i].begin < lo && spans[i].end >= lo) lo = spans[i].begin;
         for (bool grew = true; grew;) {
             grew = false;
             while (i < earlier.size() && spans[i].begin <= hi && spans[i].end >= lo) {
@@ -240,24 +239,25 @@ bool apply_edits(ByteSource& original, const std::vector<Edit>& edits, const Byt
 
 FixPlan plan_fixes(const std::string& path, ByteSource& original, const Config& config,
                    const AnalysisOptions& options, bool unsafe) {
+    // A program left as it is because something went wrong: no edits.
+    auto failed = [](std::string why) {
+        FixPlan p;
+        p.refused = std::move(why);
+        p.failed = true;
+        return p;
+    };
     FixPlan plan;
     AnalysisOptions every = options;
     every.fold = 0;  // every finding carries its fix
     FixCollector first(unsafe);
     check_source(path, original, config, every, first);
     plan.rounds = 1;
-    plan.unsafe_left = first.unsafe_left();
-    if (!first.io_error().empty()) {
-        plan.refused = first.io_error();
-        plan.failed = true;
-        return plan;
-    }
+    if (!first.io_error().empty()) return failed(first.io_error());
     uint64_t chosen = 0, waiting = 0;
     plan.edits = first.choose(chosen, waiting);
     plan.fixes = chosen;
     if (first.syntax_errors() && !plan.edits.empty()) {
         plan = FixPlan{};
-        plan.unsafe_left = first.unsafe_left();
         plan.refused = fmt::format("it has syntax errors (the first on line {}): fix them first, a fix next to "
                                    "them could not be trusted",
                                    first.first_syntax_error_line());
@@ -269,12 +269,7 @@ FixPlan plan_fixes(const std::string& path, ByteSource& original, const Config& 
     // (those that waited because they touched a fix taken).
     while (true) {
         std::FILE* f = std::tmpfile();
-        if (!f) {
-            plan = FixPlan{};
-            plan.refused = std::string("cannot create a temporary file: ") + std::strerror(errno);
-            plan.failed = true;
-            return plan;
-        }
+        if (!f) return failed(std::string("cannot create a temporary file: ") + std::strerror(errno));
         std::string error;
         uint64_t size = 0;
         const bool written = apply_edits(original, plan.edits, [&](std::string_view piece) {
@@ -283,47 +278,26 @@ FixPlan plan_fixes(const std::string& path, ByteSource& original, const Config& 
         }, error) && std::fflush(f) == 0;
         if (!written || size > kMaxInputSize) {
             std::fclose(f);
-            const uint64_t fixes = plan.fixes;
-            plan = FixPlan{};
-            plan.refused = !written ? error : fmt::format("the {} fixes would make it larger than 4 GiB", fixes);
-            plan.failed = true;
-            return plan;
+            return failed(!written ? error : fmt::format("the {} fixes would make it larger than 4 GiB", plan.fixes));
         }
         FdSource fixed(fileno(f), size);
         FixCollector again(unsafe);
         check_source(path, fixed, config, every, again);
         std::fclose(f);
         ++plan.rounds;
-        plan.unsafe_left = again.unsafe_left();
-        if (!again.io_error().empty() || again.syntax_errors()) {
-            const uint64_t fixes = plan.fixes;
-            plan = FixPlan{};
-            plan.refused = again.io_error().empty()
-                               ? fmt::format("a fix would break its syntax (line {} of the fixed program); nothing was "
-                                             "changed. Please report this with the program",
-                                             again.first_syntax_error_line())
-                               : again.io_error();
-            plan.failed = true;
-            (void)fixes;
-            return plan;
-        }
+        if (!again.io_error().empty()) return failed(again.io_error());
+        if (again.syntax_errors())
+            return failed(fmt::format("a fix would break its syntax (line {} of the fixed program); nothing was "
+                                      "changed. Please report this with the program",
+                                      again.first_syntax_error_line()));
         std::vector<Edit> later = again.choose(chosen, waiting);
         if (later.empty()) return plan;
-        if (plan.rounds > kMaxFixRounds) {
-            plan = FixPlan{};
-            plan.refused = fmt::format("the fixes did not settle after {} rounds; nothing was changed. Please report "
-                                       "this with the program",
-                                       kMaxFixRounds);
-            plan.failed = true;
-            return plan;
-        }
+        if (plan.rounds > kMaxFixRounds)
+            return failed(fmt::format("the fixes did not settle after {} rounds; nothing was changed. Please report "
+                                      "this with the program",
+                                      kMaxFixRounds));
         std::vector<Edit> composed;
-        if (!compose_edits(original, plan.edits, later, composed, error)) {
-            plan = FixPlan{};
-            plan.refused = error;
-            plan.failed = true;
-            return plan;
-        }
+        if (!compose_edits(original, plan.edits, later, composed, error)) return failed(error);
         plan.edits = std::move(composed);
         plan.fixes += chosen;
     }

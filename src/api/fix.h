@@ -79,7 +79,6 @@ inline constexpr unsigned kMaxFixRounds = 10;
 struct FixPlan {
     std::vector<Edit> edits;  // against the original bytes: empty when nothing is to change
     uint64_t fixes = 0;       // fixes applied, over all rounds
-    uint64_t unsafe_left = 0; // unsafe fixes offered and not applied (without `unsafe`)
     unsigned rounds = 0;
     // Set when the program is left as it is, and why (it could not be read,
     // it has syntax errors, a fix would break its syntax, the fixes did not
