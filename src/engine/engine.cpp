@@ -160,8 +160,9 @@ private:
     void take_checkpoint();
     bool loop_head(const Block& b, uint32_t offset, uint32_t& extent) const;
     void walk_loop(const Block& head, const LineRef& head_line);
-    void sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode);
-    void sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode);
+    // A sweep returns false when it stopped early (it converged, or the walk stops).
+    bool sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode);
+    bool sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode);
     void visit(const Block& b, const LineRef& line, Mode mode);
     void enter(const Block& b, uint32_t offset);
     void leave(const Block& b, const LineRef& line);
@@ -653,11 +654,22 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     const uint32_t end_line = main_.next_line();
     ++stats_.loop_sweeps;
     if (holding) ++stats_.held_loops;
+    // What falls out of the loop's last block, merged over every sweep: each
+    // sweep is a way through the loop, and a block's transfer need not give a
+    // wider state for a wider one (a cycle commanded again continues the old
+    // one only when that is known), so the last sweep alone may miss a path.
+    MaybeState out;
+    auto leave_sweep = [&] {
+        if (reachable_) out.merge(*A_);
+    };
+    leave_sweep();
 
     // A loop read again from the input: the rules walk it at once, if that turns out right.
     const bool speculate = !holding && loop_changed_ && !options_.observer && !stop_;
     if (speculate && walk_speculatively(start, start_line, end, entry)) {
         ++stats_.speculative_walks;
+        leave_sweep();
+        set_state(out);
         in_loop_ = false;
         join_.clear();
         probes_.clear();
@@ -668,15 +680,19 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     while (!stop_ && loop_changed_) {
         loop_changed_ = false;
         set_state(entry);
-        if (holding) sweep_held(held, held_text, Mode::Iterate);
-        else sweep_file(start, start_line, end, Mode::Iterate);
+        const bool whole = holding ? sweep_held(held, held_text, Mode::Iterate)
+                                   : sweep_file(start, start_line, end, Mode::Iterate);
         ++stats_.loop_sweeps;
+        // A sweep that converged early would end as the one before it did.
+        if (whole) leave_sweep();
     }
     // Once more, with the rules.
     if (!stop_) {
         set_state(entry);
         if (holding) sweep_held(held, held_text, Mode::Rules);
         else sweep_file(start, start_line, end, Mode::Rules);
+        leave_sweep();
+        set_state(out);
     }
     if (holding && !stop_) main_.seek(end, end_line);
     in_loop_ = false;
@@ -685,7 +701,7 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     join_stamps_.clear();
 }
 
-void Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode) {
+bool Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode) {
     if (mode == Mode::Rules) {
         positions_.clear_current();
         positions_.held.set(text, held.front().start, held.front().line);
@@ -693,9 +709,12 @@ void Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode
     }
     size_t at = 0;
     uint32_t index = 0;
+    bool whole = true;
     for (const HeldLine& h : held) {
-        if (stop_) break;
-        if (mode == Mode::Iterate && converged(h.start, index++, true)) break;
+        if (stop_ || (mode == Mode::Iterate && converged(h.start, index++, true))) {
+            whole = false;
+            break;
+        }
         const std::string_view t(text.data() + at, h.text_size);
         const std::string_view term(text.data() + at + h.text_size, h.terminator_size);
         at += h.text_size + h.terminator_size;
@@ -703,17 +722,19 @@ void Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode
     }
     positions_.held.clear();
     held_ = nullptr;
+    return whole && !stop_;
 }
 
-void Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode) {
+bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode) {
     main_.seek(start, start_line);
     Block b;
     LineRef line;
     for (uint32_t index = 0; !stop_ && main_.next_offset() < end; ++index) {
         if (!read(b, line)) break;
-        if (mode == Mode::Iterate && converged(line.start, index, true)) break;
+        if (mode == Mode::Iterate && converged(line.start, index, true)) return false;
         visit(b, line, mode);
     }
+    return !stop_;
 }
 
 void Walk::set_state(const MaybeState& s) {

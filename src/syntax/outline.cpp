@@ -29,12 +29,22 @@ struct Scan {
     uint32_t line_ends = 0;           // line ends in [p, candidate) (or in [p, e))
 };
 
+// Whether the 'N' at p, first on its line, is an N word (`N=60`: a value, so
+// a reference) rather than the line's sequence name: '=' follows it, after
+// blanks. The line is whole in [p, e).
+inline bool n_word_at_line_start(const char* p, const char* e) {
+    for (++p; p < e && (*p == ' ' || *p == '\t'); ++p) {
+    }
+    return p < e && *p == '=';
+}
+
 // The first byte of [p, e) that may belong to an outlined item (see the
 // header), and the number of lines that end before it. p starts a line when
 // `line_start`. Bytes 16 at a time: a letter folded to lower case by OR 0x20
 // equals 'o', 'e', 't' or 'w'; an 'f' right after an 'i'; an 'n' not right
-// after a line break. No other byte maps to a lower-case letter under OR 0x20.
-// A line ends at an LF, or at a CR that no LF follows.
+// after a line break, or right after one and followed by '='. No other byte
+// maps to a lower-case letter under OR 0x20. A line ends at an LF, or at a CR
+// that no LF follows.
 Scan next_candidate(const char* p, const char* e, bool line_start) {
     Scan out;
     unsigned after_break = line_start ? 1u : 0u;
@@ -57,7 +67,12 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
         const unsigned brk = lfm | crm;
         unsigned ends = lfm | (crm & ~(lfm >> 1));
         if ((crm & 0x8000u) && e - p > 16 && p[16] == '\n') ends &= 0x7FFFu;  // a CRLF across the boundary
+        const unsigned line_start_n = nm & ((brk << 1) | after_break) & 0xFFFFu;
         unsigned cand = m | (nm & ~((brk << 1) | after_break));
+        for (unsigned b = line_start_n; b; b &= b - 1) {
+            const unsigned k = static_cast<unsigned>(__builtin_ctz(b));
+            if (n_word_at_line_start(p + k, e)) cand |= 1u << k;
+        }
         if (im | after_i) {
             const unsigned fm = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, f)));
             cand |= fm & ((im << 1) | after_i);
@@ -76,7 +91,8 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
 #endif
     for (; p < e; ++p) {
         const char l = static_cast<char>(*p | 0x20);
-        if (l == 'o' || l == 'e' || l == 't' || l == 'w' || (l == 'n' && !after_break) || (l == 'f' && after_i)) {
+        if (l == 'o' || l == 'e' || l == 't' || l == 'w' || (l == 'n' && (!after_break || n_word_at_line_start(p, e))) ||
+            (l == 'f' && after_i)) {
             out.candidate = p;
             return out;
         }

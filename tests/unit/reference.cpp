@@ -16,6 +16,7 @@
 #include "rules/registry.h"
 #include "semantics/eval.h"
 #include "semantics/transfer.h"
+#include "support/io.h"
 #include "support/text.h"
 #include "syntax/directive.h"
 #include "syntax/frontend.h"
@@ -173,6 +174,11 @@ FileResult reference_check(const std::string& path, std::string_view text, const
                            const AnalysisOptions& options) {
     FileResult result;
     result.path = path;
+    // A UTF-16 file is said to be one, not read as a program.
+    if (text.size() >= 2 && ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF'))) {
+        result.io_error = kUtf16Message;
+        return result;
+    }
     const ProgramFile file = parse_program_file(path, std::string(text));
     const FileOutline outline = reference_outline(file);
     RefContext ctx(file, config, options.known_programs);

@@ -25,6 +25,7 @@
 #include "api/check.h"
 #include "api/config.h"
 #include "support/errors.h"
+#include "support/io.h"
 #include "engine/record.h"
 #include "programs.h"
 #include "reference.h"
@@ -267,8 +268,36 @@ TEST_CASE("engine: jumps and loops") {
     SUBCASE("unreachable code after a jump, and a loop whose head is unreachable") {
         compare_checks("a.min", "O1\nGOTO N9\nN3 G81 Z-1. R1. F1\nIF [VC1 LT 2] N3\nN9 M30\n", config);
     }
+    SUBCASE("what leaves a loop is merged over every sweep") {
+        // The first sweep reaches the second G81 with the first one known
+        // modal, so it continues that cycle; later sweeps come with the cycle
+        // perhaps ended by the G0 and start a new one. Both ways leave the
+        // loop: which G81 is left uncancelled is not known.
+        const std::string text = "O1\nNCYL G81 Z-3. R3. F150 M54\nNAT00 G56 Z50. H2\nG81 X10. Y10. Z-3. R3. F150\n"
+                                 "G0 Z100.\nIF [VC2 LT 5] NAT00\nNEND M30\n";
+        for (const size_t hold : {size_t(0), size_t(8192)}) {
+            AnalysisOptions options;
+            options.held_loop_blocks = hold;
+            compare_checks("a.min", text, config, options);
+        }
+    }
+    SUBCASE("an N word first on its line is a reference, not a sequence name") {
+        for (const char* line : {"N=60", "N =60", "N\t= 60", "N=VC1", "n=60"})
+            compare_checks("a.min", "O1\n" + std::string(line) + " G0 X1\nN60 M30\n", config);
+    }
     SUBCASE("a block-deleted jump and a block-deleted END") {
         compare_checks("a.min", "O1\nN1 G0 X1\n/GOTO N1\nDO1\nG91\n/END1\nM30\n", config);
+    }
+}
+
+TEST_CASE("engine: a UTF-16 file is said to be one, not read as a program") {
+    for (const char* bom : {"\xFF\xFE", "\xFE\xFF"}) {
+        static constexpr char kBody[] = "O\0001\0\n\0M\0003\0000\0\n\0";  // O1 M30 in UTF-16LE
+        const std::string text = std::string(bom) + std::string(kBody, sizeof kBody - 1);
+        compare_checks("a.min", text, Config{});
+        const FileResult r = check_text("a.min", text, Config{});
+        CHECK(r.io_error == kUtf16Message);
+        CHECK(r.diagnostics.empty());
     }
 }
 
