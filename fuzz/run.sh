@@ -30,6 +30,7 @@ target="$dir/core/diff_fuzz"
 # Seeds: every program of the repository (small ones), as they are.
 seeds="$dir/seeds"
 corpus=${OSPLINT_FUZZ_CORPUS:-$dir/corpus}
+rm -rf "$seeds"  # the programs as they are now, none left from an earlier checkout
 mkdir -p "$seeds" "$corpus"
 find "$root/tests/programs" "$root/examples" "$root/tests/rules" "$root/tests/frontend" -type f \
   \( -iname '*.MIN' -o -iname '*.SSB' -o -iname '*.SUB' -o -iname '*.LIB' -o -iname '*.NC' -o -iname '*.SDF' \) \

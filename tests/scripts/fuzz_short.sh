@@ -13,8 +13,9 @@ log=$(mktemp)
 corpus=$(mktemp -d)
 trap 'rm -rf "$log" "$corpus"' EXIT
 # A fresh corpus grown from the repository's programs (the one fuzz/run.sh keeps
-# for long runs grows without bound).
-OSPLINT_FUZZ_CORPUS=$corpus fuzz/run.sh -max_total_time="${OSPLINT_FUZZ_SECONDS:-60}" -seed=1 >"$log" 2>&1
+# for long runs grows without bound). A fixed number of runs from a fixed seed:
+# every machine tries the same inputs, however fast it is.
+OSPLINT_FUZZ_CORPUS=$corpus fuzz/run.sh -runs="${OSPLINT_FUZZ_RUNS:-2500}" -max_total_time=900 -seed=1 >"$log" 2>&1
 status=$?
 grep -E "^#[0-9]+ +DONE|stat::number_of_executed_units|stat::peak_rss_mb|DIVERGENCE|ERROR:" "$log" | head -20
 if ((status != 0)); then
