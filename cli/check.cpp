@@ -94,7 +94,7 @@ namespace {
 // stays on: a file that does not parse is never passed over silently.
 void apply_selection(Config& c, const CheckOptions& o) {
     for (const auto& m : all_rules()) {
-        if (m.id == "OSP001") continue;
+        if (m.id == kSyntaxErrorRule) continue;
         bool selected = o.select.empty();
         for (const auto& p : o.select)
             if (rule_matches(m.id, p)) selected = true;

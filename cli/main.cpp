@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "support/embedded.h"
 #include "support/errors.h"
@@ -90,11 +91,31 @@ std::vector<std::string> expand_paths(const std::vector<std::string>& args, std:
 
 namespace {
 
-int cmd_rules() {
+int cmd_rules(const std::string& format) {
+    if (format == "json") {
+        // Every rule's metadata, for tools and editors.
+        nlohmann::json out = nlohmann::json::array();
+        for (const auto& m : all_rules()) {
+            const char* fix = m.fix == FixSafety::Safe ? "safe" : m.fix == FixSafety::Unsafe ? "unsafe" : "none";
+            out.push_back({{"id", m.id},
+                           {"name", m.name},
+                           {"severity", severity_name(m.severity)},
+                           {"category", category_name(m.category)},
+                           {"summary", m.summary},
+                           {"enabled_by_default", m.enabled_by_default},
+                           {"fix", fix},
+                           {"suppressible", m.suppressible},
+                           {"status", status_name(m.status)},
+                           {"since", m.since}});
+        }
+        std::cout << out.dump(2) << "\n";
+        return 0;
+    }
     for (const auto& m : all_rules()) {
         const char* fix = m.fix == FixSafety::Safe ? " [fix]" : m.fix == FixSafety::Unsafe ? " [unsafe fix]" : "";
-        std::cout << fmt::format("{}  {:<32} {:<8} {}{}{}\n", m.id, m.name, severity_name(m.severity), m.summary,
-                                 m.enabled_by_default ? "" : " (off by default)", fix);
+        std::cout << fmt::format("{}  {:<32} {:<8} {:<13} {}{}{}{}\n", m.id, m.name, severity_name(m.severity),
+                                 category_name(m.category), m.summary, m.enabled_by_default ? "" : " (off by default)",
+                                 m.status == RuleStatus::Preview ? " (preview)" : "", fix);
     }
     return 0;
 }
@@ -199,7 +220,11 @@ int main(int argc, char** argv) {
     auto* check_cmd = app.add_subcommand("check", "Check part programs (files, directories, - for stdin)");
     cli::add_check_options(*check_cmd, check);
 
-    auto* rules_cmd = app.add_subcommand("rules", "List every rule: ID, name, default severity, summary");
+    auto* rules_cmd =
+        app.add_subcommand("rules", "List every rule: ID, name, default severity, category, summary");
+    std::string rules_format = "text";
+    rules_cmd->add_option("--format", rules_format, "text (a table) or json (every rule's metadata)")
+        ->check(CLI::IsMember({"text", "json"}));
 
     std::string explain_what;
     auto* explain_cmd = app.add_subcommand("explain", "Print a rule's documentation, a macro's card or a fixed cycle's card");
@@ -246,7 +271,7 @@ int main(int argc, char** argv) {
     };
     try {
         if (*check_cmd) return output_written(cli::run_check(check));
-        if (*rules_cmd) return output_written(cmd_rules());
+        if (*rules_cmd) return output_written(cmd_rules(rules_format));
         if (*explain_cmd) return output_written(cmd_explain(explain_what));
         if (*trace_cmd) return output_written(cli::run_trace(trace));
         if (*lsp_cmd) return cli::run_lsp();

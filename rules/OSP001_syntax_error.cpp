@@ -4,13 +4,18 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP001", "syntax-error", Severity::Error,
-                         "The block does not parse as OSP part-program syntax"};
+constexpr RuleMeta kMeta{
+    .id = "OSP001",
+    .name = "syntax-error",
+    .severity = Severity::Error,
+    .summary = "The block does not parse as OSP part-program syntax",
+    .category = RuleCategory::Alarm,
+    .suppressible = false,
+};
 
 class SyntaxErrorRule final : public RuleBase<SyntaxErrorRule> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         for (const auto& e : v.block.errors) ctx.report(kMeta, e.range, e.message);
     }

@@ -10,13 +10,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP002", "undefined-jump-target", Severity::Error,
-                         "GOTO, IF or an N reference names a sequence name the program does not define"};
+constexpr RuleMeta kMeta{
+    .id = "OSP002",
+    .name = "undefined-jump-target",
+    .severity = Severity::Error,
+    .summary = "GOTO, IF or an N reference names a sequence name the program does not define",
+    .category = RuleCategory::Alarm,
+};
 
 class UndefinedJumpTarget final : public RuleBase<UndefinedJumpTarget> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void begin_program(RuleContext&, const ProgramView&) override { refs_.clear(); }
     void check_block(RuleContext&, const BlockView& v) override {
         for (const auto& st : v.block.statements) {

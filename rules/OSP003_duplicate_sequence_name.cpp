@@ -13,8 +13,15 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP003", "duplicate-sequence-name", Severity::Warning,
-                         "A sequence name is defined twice in one program", false};
+constexpr RuleMeta kMeta{
+    .id = "OSP003",
+    .name = "duplicate-sequence-name",
+    .severity = Severity::Warning,
+    .summary = "A sequence name is defined twice in one program",
+    .category = RuleCategory::Suspicious,
+    .enabled_by_default = false,
+    .blocks = RuleBlocks::All,
+};
 
 // The first definition of each name is kept, for the note, for the first
 // kKeepFirst names of a program. Beyond that, names of the form N<digits>

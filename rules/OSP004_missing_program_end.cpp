@@ -6,8 +6,14 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP004", "missing-program-end", Severity::Warning,
-                         "A main program without M02/M30, or a subprogram without RTS"};
+constexpr RuleMeta kMeta{
+    .id = "OSP004",
+    .name = "missing-program-end",
+    .severity = Severity::Warning,
+    .summary = "A main program without M02/M30, or a subprogram without RTS",
+    .category = RuleCategory::Alarm,
+    .blocks = RuleBlocks::All,
+};
 
 std::string upper_extension(std::string_view path) {
     auto dot = path.rfind('.');

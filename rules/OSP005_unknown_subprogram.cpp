@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP005", "unknown-subprogram", Severity::Info,
-                         "CALL/MODIN names a program that is neither in the catalog nor in the checked files"};
+constexpr RuleMeta kMeta{
+    .id = "OSP005",
+    .name = "unknown-subprogram",
+    .severity = Severity::Info,
+    .summary = "CALL/MODIN names a program that is neither in the catalog nor in the checked files",
+    .category = RuleCategory::Alarm,
+};
 
 class UnknownSubprogram final : public RuleBase<UnknownSubprogram> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (!c || (c->kind != CallKind::Call && c->kind != CallKind::Modin)) return;

@@ -13,8 +13,14 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP006", "jump-to-duplicated-name", Severity::Warning,
-                         "A GOTO or IF jumps to a sequence name the program defines more than once"};
+constexpr RuleMeta kMeta{
+    .id = "OSP006",
+    .name = "jump-to-duplicated-name",
+    .severity = Severity::Warning,
+    .summary = "A GOTO or IF jumps to a sequence name the program defines more than once",
+    .category = RuleCategory::Suspicious,
+    .blocks = RuleBlocks::All,
+};
 
 // Definitions kept per name for the notes; the rest are only counted.
 constexpr size_t kNotedDefinitions = 8;

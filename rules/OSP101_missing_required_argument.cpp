@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP101", "missing-required-argument", Severity::Error,
-                         "A macro call lacks an argument the manual marks as required (alarm when omitted)"};
+constexpr RuleMeta kMeta{
+    .id = "OSP101",
+    .name = "missing-required-argument",
+    .severity = Severity::Error,
+    .summary = "A macro call lacks an argument the manual marks as required (alarm when omitted)",
+    .category = RuleCategory::Alarm,
+};
 
 class MissingRequiredArgument final : public RuleBase<MissingRequiredArgument> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

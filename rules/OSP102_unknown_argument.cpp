@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP102", "unknown-argument", Severity::Warning,
-                         "A macro call passes an argument the macro does not take"};
+constexpr RuleMeta kMeta{
+    .id = "OSP102",
+    .name = "unknown-argument",
+    .severity = Severity::Warning,
+    .summary = "A macro call passes an argument the macro does not take",
+    .category = RuleCategory::Suspicious,
+};
 
 class UnknownArgument final : public RuleBase<UnknownArgument> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

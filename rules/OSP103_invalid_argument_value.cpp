@@ -7,8 +7,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP103", "invalid-argument-value", Severity::Error,
-                         "An argument value breaks a constraint documented in the manual"};
+constexpr RuleMeta kMeta{
+    .id = "OSP103",
+    .name = "invalid-argument-value",
+    .severity = Severity::Error,
+    .summary = "An argument value breaks a constraint documented in the manual",
+    .category = RuleCategory::Alarm,
+};
 
 struct Known {
     std::optional<double> value;
@@ -113,7 +118,6 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
 class InvalidArgumentValue final : public RuleBase<InvalidArgumentValue> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         std::optional<Plane> plane;
         if (v.before.plane.known) plane = v.before.plane.value;

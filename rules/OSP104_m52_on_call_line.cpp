@@ -4,14 +4,18 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP104", "m52-on-call-line", Severity::Error,
-                         "M52 on the CALL/MODIN line of a macro is ignored; command PM=52",
-                         true, FixSafety::Safe};
+constexpr RuleMeta kMeta{
+    .id = "OSP104",
+    .name = "m52-on-call-line",
+    .severity = Severity::Error,
+    .summary = "M52 on the CALL/MODIN line of a macro is ignored; command PM=52",
+    .category = RuleCategory::WrongMotion,
+    .fix = FixSafety::Safe,
+};
 
 class M52OnCallLine final : public RuleBase<M52OnCallLine> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

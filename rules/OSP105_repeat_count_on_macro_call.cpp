@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP105", "repeat-count-on-macro-call", Severity::Error,
-                         "A Q repeat count on CALL/MODIN of a macro that does not support repeated calls"};
+constexpr RuleMeta kMeta{
+    .id = "OSP105",
+    .name = "repeat-count-on-macro-call",
+    .severity = Severity::Error,
+    .summary = "A Q repeat count on CALL/MODIN of a macro that does not support repeated calls",
+    .category = RuleCategory::WrongMotion,
+};
 
 class RepeatCount final : public RuleBase<RepeatCount> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP106", "m53-without-pt", Severity::Error,
-                         "M53 is in effect for a macro call without PT (the macros do not read G71)"};
+constexpr RuleMeta kMeta{
+    .id = "OSP106",
+    .name = "m53-without-pt",
+    .severity = Severity::Error,
+    .summary = "M53 is in effect for a macro call without PT (the macros do not read G71)",
+    .category = RuleCategory::Alarm,
+};
 
 class M53WithoutPt final : public RuleBase<M53WithoutPt> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

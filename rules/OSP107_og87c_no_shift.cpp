@@ -5,13 +5,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP107", "og87c-no-shift", Severity::Error,
-                         "OG87C has no non-zero tool shift in the positioning plane (alarm)"};
+constexpr RuleMeta kMeta{
+    .id = "OSP107",
+    .name = "og87c-no-shift",
+    .severity = Severity::Error,
+    .summary = "OG87C has no non-zero tool shift in the positioning plane (alarm)",
+    .category = RuleCategory::Alarm,
+};
 
 class NoShift final : public RuleBase<NoShift> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP108", "ignored-code-on-call-line", Severity::Warning,
-                         "M3/M4/M7/M8/M12 on a CALL/MODIN line, or M7/M8/M12 on the G114 block, may be ignored"};
+constexpr RuleMeta kMeta{
+    .id = "OSP108",
+    .name = "ignored-code-on-call-line",
+    .severity = Severity::Warning,
+    .summary = "M3/M4/M7/M8/M12 on a CALL/MODIN line, or M7/M8/M12 on the G114 block, may be ignored",
+    .category = RuleCategory::Suspicious,
+};
 
 class IgnoredCode final : public RuleBase<IgnoredCode> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -4,8 +4,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP109", "unsupported-call-mode", Severity::Error,
-                         "A macro is invoked in a form or mode its manual does not support"};
+constexpr RuleMeta kMeta{
+    .id = "OSP109",
+    .name = "unsupported-call-mode",
+    .severity = Severity::Error,
+    .summary = "A macro is invoked in a form or mode its manual does not support",
+    .category = RuleCategory::WrongMotion,
+};
 
 std::string documented_forms(const MacroSpec& s) {
     std::string out;
@@ -29,7 +34,6 @@ std::string documented_forms(const MacroSpec& s) {
 class UnsupportedCallMode final : public RuleBase<UnsupportedCallMode> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP110", "inch-mode-macro", Severity::Error,
-                         "A macro that works in mm only is used while inch units are in effect"};
+constexpr RuleMeta kMeta{
+    .id = "OSP110",
+    .name = "inch-mode-macro",
+    .severity = Severity::Error,
+    .summary = "A macro that works in mm only is used while inch units are in effect",
+    .category = RuleCategory::WrongMotion,
+};
 
 class InchModeMacro final : public RuleBase<InchModeMacro> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP111", "g91-absolute-cycle-axis", Severity::Info,
-                         "A macro called under G91: its cycle-axis arguments are still absolute"};
+constexpr RuleMeta kMeta{
+    .id = "OSP111",
+    .name = "g91-absolute-cycle-axis",
+    .severity = Severity::Info,
+    .summary = "A macro called under G91: its cycle-axis arguments are still absolute",
+    .category = RuleCategory::WrongMotion,
+};
 
 class G91AbsoluteCycleAxis final : public RuleBase<G91AbsoluteCycleAxis> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -5,8 +5,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP112", "upper-limit-return-outside-g17", Severity::Warning,
-                         "PM=52/M52 given outside G17: the macro returns to the Z+ limit only in G17"};
+constexpr RuleMeta kMeta{
+    .id = "OSP112",
+    .name = "upper-limit-return-outside-g17",
+    .severity = Severity::Warning,
+    .summary = "PM=52/M52 given outside G17: the macro returns to the Z+ limit only in G17",
+    .category = RuleCategory::WrongMotion,
+};
 
 // The action step that performs the upper-limit return "in G17 mode".
 const ActionStep* g17_only_return(const MacroSpec& s) {
@@ -20,7 +25,6 @@ const ActionStep* g17_only_return(const MacroSpec& s) {
 class UpperLimitReturnOutsideG17 final : public RuleBase<UpperLimitReturnOutsideG17> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -5,13 +5,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP113", "shift-without-axis", Severity::Warning,
-                         "A shift argument has no axis in the plane in effect (blank in the plane table)"};
+constexpr RuleMeta kMeta{
+    .id = "OSP113",
+    .name = "shift-without-axis",
+    .severity = Severity::Warning,
+    .summary = "A shift argument has no axis in the plane in effect (blank in the plane table)",
+    .category = RuleCategory::WrongMotion,
+};
 
 class ShiftWithoutAxis final : public RuleBase<ShiftWithoutAxis> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

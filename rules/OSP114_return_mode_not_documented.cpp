@@ -5,13 +5,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP114", "return-mode-not-documented", Severity::Error,
-                         "M53/M54 on the call of a macro whose manual documents no return-level behaviour"};
+constexpr RuleMeta kMeta{
+    .id = "OSP114",
+    .name = "return-mode-not-documented",
+    .severity = Severity::Error,
+    .summary = "M53/M54 on the call of a macro whose manual documents no return-level behaviour",
+    .category = RuleCategory::WrongMotion,
+};
 
 class ReturnModeNotDocumented final : public RuleBase<ReturnModeNotDocumented> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -5,8 +5,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP115", "rapid-plunge", Severity::Warning,
-                         "The macro plunges to the Z point at rapid because its plunge feed is omitted"};
+constexpr RuleMeta kMeta{
+    .id = "OSP115",
+    .name = "rapid-plunge",
+    .severity = Severity::Warning,
+    .summary = "The macro plunges to the Z point at rapid because its plunge feed is omitted",
+    .category = RuleCategory::WrongMotion,
+};
 
 // The action step that reaches PZ at rapid unless a feed argument is given:
 // its feed reads "rapid; G1 F=<ARG> when <ARG> is given".
@@ -26,7 +31,6 @@ std::optional<std::pair<const ActionStep*, std::string>> rapid_plunge(const Macr
 class RapidPlunge final : public RuleBase<RapidPlunge> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

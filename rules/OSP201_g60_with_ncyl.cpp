@@ -8,8 +8,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP201", "g60-with-ncyl", Severity::Error,
-                         "G60 and NCYL together in a program using the OG87*/OZAGR/OM100/OKYOX macros"};
+constexpr RuleMeta kMeta{
+    .id = "OSP201",
+    .name = "g60-with-ncyl",
+    .severity = Severity::Error,
+    .summary = "G60 and NCYL together in a program using the OG87*/OZAGR/OM100/OKYOX macros",
+    .category = RuleCategory::WrongMotion,
+};
 
 // Where the macro's manual forbids the combination.
 std::string forbidding_source(const Catalog& catalog, const MacroSpec& s) {
@@ -19,7 +24,6 @@ std::string forbidding_source(const Catalog& catalog, const MacroSpec& s) {
 class G60WithNcyl final : public RuleBase<G60WithNcyl> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override {
         pending_.clear();

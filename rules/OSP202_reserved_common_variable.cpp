@@ -9,8 +9,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP202", "reserved-common-variable", Severity::Warning,
-                         "VC120-VC128 used in a program that calls macros which overwrite them"};
+constexpr RuleMeta kMeta{
+    .id = "OSP202",
+    .name = "reserved-common-variable",
+    .severity = Severity::Warning,
+    .summary = "VC120-VC128 used in a program that calls macros which overwrite them",
+    .category = RuleCategory::WrongMotion,
+};
 
 std::string clobber_source(const Catalog& catalog, const MacroSpec& s) {
     return macro::note_ref(catalog, s, "VC120");
@@ -31,7 +36,6 @@ struct Clobber {
 class ReservedCommonVariable final : public RuleBase<ReservedCommonVariable> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override {
         uses_.clear();

@@ -8,13 +8,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP203", "modal-call-left-open", Severity::Warning,
-                         "MODIN without MODOUT before the program ends, or MODIN while another MODIN is active"};
+constexpr RuleMeta kMeta{
+    .id = "OSP203",
+    .name = "modal-call-left-open",
+    .severity = Severity::Warning,
+    .summary = "MODIN without MODOUT before the program ends, or MODIN while another MODIN is active",
+    .category = RuleCategory::WrongMotion,
+};
 
 class ModalCallLeftOpen final : public RuleBase<ModalCallLeftOpen> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { modins_.clear(); }
 

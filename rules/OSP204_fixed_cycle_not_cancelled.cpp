@@ -7,8 +7,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP204", "fixed-cycle-not-cancelled", Severity::Warning,
-                         "A fixed cycle switched without G80, or still modal at the program end"};
+constexpr RuleMeta kMeta{
+    .id = "OSP204",
+    .name = "fixed-cycle-not-cancelled",
+    .severity = Severity::Warning,
+    .summary = "A fixed cycle switched without G80, or still modal at the program end",
+    .category = RuleCategory::WrongMotion,
+};
 
 std::string cycle_name(const ActiveCycle& c) {
     return c.macro.empty() ? fmt::format("G{}", c.code) : fmt::format("G{} ({})", c.code, c.macro);
@@ -27,7 +32,6 @@ std::string cancel_hint(const RuleContext& ctx, const ActiveCycle& c) {
 class FixedCycleNotCancelled final : public RuleBase<FixedCycleNotCancelled> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { end_block_.reset(); }
 

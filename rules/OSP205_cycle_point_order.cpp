@@ -10,8 +10,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP205", "cycle-point-order", Severity::Error,
-                         "Fixed-cycle initial point, R and Z not in the order I >= R > Z"};
+constexpr RuleMeta kMeta{
+    .id = "OSP205",
+    .name = "cycle-point-order",
+    .severity = Severity::Error,
+    .summary = "Fixed-cycle initial point, R and Z not in the order I >= R > Z",
+    .category = RuleCategory::Alarm,
+};
 
 std::string num(double v) { return macro::format_number(v); }
 
@@ -21,7 +26,6 @@ bool reversed_cycle(int code) { return code == 79 || code == 87; }
 class CyclePointOrder final : public RuleBase<CyclePointOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { last_.reset(); }
 

@@ -6,8 +6,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP206", "tapping-with-g99", Severity::Error,
-                         "G84 (with a tapper) or G114 under G99 (R-point return)"};
+constexpr RuleMeta kMeta{
+    .id = "OSP206",
+    .name = "tapping-with-g99",
+    .severity = Severity::Error,
+    .summary = "G84 (with a tapper) or G114 under G99 (R-point return)",
+    .category = RuleCategory::WrongMotion,
+};
 
 bool tapper_cycle(const RuleContext& ctx, const ActiveCycle& c) {
     if (!c.macro.empty()) {
@@ -27,7 +32,6 @@ const Word* g_word(const Block& b, double code) {
 class TappingWithG99 final : public RuleBase<TappingWithG99> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || !v.after.cycle_return.is(CycleReturn::R) || !tapper_cycle(ctx, *c)) return;

@@ -6,14 +6,18 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP207", "code-not-alone", Severity::Error,
-                         "M843 or M845 in a block with any other word",
-                         true, FixSafety::Safe};
+constexpr RuleMeta kMeta{
+    .id = "OSP207",
+    .name = "code-not-alone",
+    .severity = Severity::Error,
+    .summary = "M843 or M845 in a block with any other word",
+    .category = RuleCategory::Alarm,
+    .fix = FixSafety::Safe,
+};
 
 class CodeNotAlone final : public RuleBase<CodeNotAlone> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         for (const auto& w : b.words) {

@@ -7,14 +7,18 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP208", "g114-cancelled-by-g80", Severity::Warning,
-                         "G114 (OG84L) cancelled by G80: the spindle and feed overrides stay disabled",
-                         true, FixSafety::Unsafe};
+constexpr RuleMeta kMeta{
+    .id = "OSP208",
+    .name = "g114-cancelled-by-g80",
+    .severity = Severity::Warning,
+    .summary = "G114 (OG84L) cancelled by G80: the spindle and feed overrides stay disabled",
+    .category = RuleCategory::WrongMotion,
+    .fix = FixSafety::Unsafe,
+};
 
 class G114CancelledByG80 final : public RuleBase<G114CancelledByG80> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.before);
         if (!c || c->macro.empty()) return;

@@ -6,13 +6,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP209", "repeat-count-in-g90", Severity::Warning,
-                         "L (repeat count) on a fixed cycle in G90: valid only under G91"};
+constexpr RuleMeta kMeta{
+    .id = "OSP209",
+    .name = "repeat-count-in-g90",
+    .severity = Severity::Warning,
+    .summary = "L (repeat count) on a fixed cycle in G90: valid only under G91",
+    .category = RuleCategory::Suspicious,
+};
 
 class RepeatCountInG90 final : public RuleBase<RepeatCountInG90> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || !c->macro.empty() || v.block.has_code("G", 80)) return;

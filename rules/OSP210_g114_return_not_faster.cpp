@@ -7,13 +7,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP210", "g114-return-not-faster", Severity::Warning,
-                         "G114 (OG84L) return rate FA omitted or not faster than F"};
+constexpr RuleMeta kMeta{
+    .id = "OSP210",
+    .name = "g114-return-not-faster",
+    .severity = Severity::Warning,
+    .summary = "G114 (OG84L) return rate FA omitted or not faster than F",
+    .category = RuleCategory::WrongMotion,
+};
 
 class G114ReturnNotFaster final : public RuleBase<G114ReturnNotFaster> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (!c || c->kind != CallKind::GCode || !c->spec || c->spec->cancel.empty() || !c->spec->tapping) return;

@@ -9,8 +9,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP211", "g114-declaration-not-tapped", Severity::Warning,
-                         "X/Y on the G114 declaration block are not tapped, and no later block taps there"};
+constexpr RuleMeta kMeta{
+    .id = "OSP211",
+    .name = "g114-declaration-not-tapped",
+    .severity = Severity::Warning,
+    .summary = "X/Y on the G114 declaration block are not tapped, and no later block taps there",
+    .category = RuleCategory::Suspicious,
+};
 
 bool positions_hole(const Block& b) {
     for (const auto& w : b.words)
@@ -25,7 +30,6 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     // A pending declaration is settled on the block that ends its cycle, so
     // none is pending when a plain move runs (no cycle is modal then).
-    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { pending_.reset(); }
 

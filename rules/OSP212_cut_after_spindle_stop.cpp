@@ -10,8 +10,14 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP212", "cut-after-spindle-stop", Severity::Warning,
-                         "A cutting move after G80/M204 ended G114 (the spindle stopped) without M3/M4"};
+constexpr RuleMeta kMeta{
+    .id = "OSP212",
+    .name = "cut-after-spindle-stop",
+    .severity = Severity::Warning,
+    .summary = "A cutting move after G80/M204 ended G114 (the spindle stopped) without M3/M4",
+    .category = RuleCategory::WrongMotion,
+    .blocks = RuleBlocks::All,
+};
 
 bool has_axis(const Block& b) {
     for (const auto& w : b.words)

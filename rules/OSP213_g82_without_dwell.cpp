@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP213", "g82-without-dwell", Severity::Warning,
-                         "G82 without P: no dwell at the hole bottom"};
+constexpr RuleMeta kMeta{
+    .id = "OSP213",
+    .name = "g82-without-dwell",
+    .severity = Severity::Warning,
+    .summary = "G82 without P: no dwell at the hole bottom",
+    .category = RuleCategory::Suspicious,
+};
 
 class G82WithoutDwell final : public RuleBase<G82WithoutDwell> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 82 || !c->macro.empty() || c->start_line != v.block.line) return;

@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP214", "g83-dwell-without-j", Severity::Warning,
-                         "P (dwell) on G83 without J: the dwell is not performed"};
+constexpr RuleMeta kMeta{
+    .id = "OSP214",
+    .name = "g83-dwell-without-j",
+    .severity = Severity::Warning,
+    .summary = "P (dwell) on G83 without J: the dwell is not performed",
+    .category = RuleCategory::Suspicious,
+};
 
 class G83DwellWithoutJ final : public RuleBase<G83DwellWithoutJ> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 83 || !c->macro.empty() || v.block.has_code("G", 80)) return;

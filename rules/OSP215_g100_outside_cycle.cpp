@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP215", "g100-outside-cycle", Severity::Warning,
-                         "G100 outside a fixed cycle is ignored"};
+constexpr RuleMeta kMeta{
+    .id = "OSP215",
+    .name = "g100-outside-cycle",
+    .severity = Severity::Warning,
+    .summary = "G100 outside a fixed cycle is ignored",
+    .category = RuleCategory::Suspicious,
+};
 
 class G100OutsideCycle final : public RuleBase<G100OutsideCycle> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Word* g100 = nullptr;
         for (const auto& w : v.block.words)

@@ -7,13 +7,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP216", "sync-tap-not-bracketed", Severity::Warning,
-                         "M843 not closed by M845 before the program ends, or M3/M4/M5 inside M843 ... M845"};
+constexpr RuleMeta kMeta{
+    .id = "OSP216",
+    .name = "sync-tap-not-bracketed",
+    .severity = Severity::Warning,
+    .summary = "M843 not closed by M845 before the program ends, or M3/M4/M5 inside M843 ... M845",
+    .category = RuleCategory::WrongMotion,
+};
 
 class SyncTapNotBracketed final : public RuleBase<SyncTapNotBracketed> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 
     void begin_program(RuleContext&, const ProgramView&) override { last_m843_.reset(); }
 

@@ -4,13 +4,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP217", "m843-before-speed", Severity::Warning,
-                         "M843 (synchronised tapping) before any S has been commanded"};
+constexpr RuleMeta kMeta{
+    .id = "OSP217",
+    .name = "m843-before-speed",
+    .severity = Severity::Warning,
+    .summary = "M843 (synchronised tapping) before any S has been commanded",
+    .category = RuleCategory::WrongMotion,
+};
 
 class M843BeforeSpeed final : public RuleBase<M843BeforeSpeed> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (!v.after.speed_commanded.is(false)) return;  // an S on the same block counts
         for (const auto& w : v.block.words) {

@@ -6,13 +6,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP218", "g114-left-hand", Severity::Warning,
-                         "G114 (OG84L) with the spindle in reverse: there is no left-hand version"};
+constexpr RuleMeta kMeta{
+    .id = "OSP218",
+    .name = "g114-left-hand",
+    .severity = Severity::Warning,
+    .summary = "G114 (OG84L) with the spindle in reverse: there is no left-hand version",
+    .category = RuleCategory::WrongMotion,
+};
 
 class G114LeftHand final : public RuleBase<G114LeftHand> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->macro.empty() || !v.after.spindle.is(4) || v.block.has_code("G", 80)) return;

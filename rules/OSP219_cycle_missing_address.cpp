@@ -7,15 +7,19 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP219", "cycle-missing-address", Severity::Error,
-                         "A fixed cycle started without an address its command format requires"};
+constexpr RuleMeta kMeta{
+    .id = "OSP219",
+    .name = "cycle-missing-address",
+    .severity = Severity::Error,
+    .summary = "A fixed cycle started without an address its command format requires",
+    .category = RuleCategory::Alarm,
+};
 
 bool is_plane_axis_name(std::string_view n) { return n == "X" || n == "Y" || n == "Z"; }
 
 class CycleMissingAddress final : public RuleBase<CycleMissingAddress> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         // Only a cycle started afresh: after G80 (or at the program start) no

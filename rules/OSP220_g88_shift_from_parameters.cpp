@@ -5,13 +5,17 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP220", "g88-shift-from-parameters", Severity::Warning,
-                         "G88 without I/J: the relief shift comes from the setting parameters"};
+constexpr RuleMeta kMeta{
+    .id = "OSP220",
+    .name = "g88-shift-from-parameters",
+    .severity = Severity::Warning,
+    .summary = "G88 without I/J: the relief shift comes from the setting parameters",
+    .category = RuleCategory::Suspicious,
+};
 
 class G88ShiftFromParameters final : public RuleBase<G88ShiftFromParameters> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 88 || !c->macro.empty() || c->start_line != v.block.line) return;

@@ -11,8 +11,13 @@ namespace osplint {
 
 namespace {
 
-constexpr RuleMeta kMeta{"OSP301", "cycle-axis-out-of-travel", Severity::Error,
-                         "A macro call, a fixed-cycle hole or a positioning move goes beyond [machine.travel]"};
+constexpr RuleMeta kMeta{
+    .id = "OSP301",
+    .name = "cycle-axis-out-of-travel",
+    .severity = Severity::Error,
+    .summary = "A macro call, a fixed-cycle hole or a positioning move goes beyond [machine.travel]",
+    .category = RuleCategory::WrongMotion,
+};
 
 std::string travel_text(const Config& c, char axis) {
     auto it = c.travel.find(axis);

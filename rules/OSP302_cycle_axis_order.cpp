@@ -12,8 +12,13 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP302", "cycle-axis-order", Severity::Warning,
-                         "A macro's cycle-axis points are in an order its action sequence cannot run"};
+constexpr RuleMeta kMeta{
+    .id = "OSP302",
+    .name = "cycle-axis-order",
+    .severity = Severity::Warning,
+    .summary = "A macro's cycle-axis points are in an order its action sequence cannot run",
+    .category = RuleCategory::WrongMotion,
+};
 
 bool is_order_relation(const Relation& r, const MacroSpec& spec) {
     for (const auto* side : {&r.left, &r.right}) {
@@ -88,7 +93,6 @@ bool is_point(const std::string& text, const MacroSpec& spec) {
 class CycleAxisOrder final : public RuleBase<CycleAxisOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void begin_program(RuleContext&, const ProgramView&) override { reported_.clear(); }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;

@@ -6,9 +6,14 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP303", "cycle-axis-unbounded", Severity::Info,
-                         "The cycle-axis motion of a call or hole cannot be bounded (a value or the start is unknown)",
-                         false};
+constexpr RuleMeta kMeta{
+    .id = "OSP303",
+    .name = "cycle-axis-unbounded",
+    .severity = Severity::Info,
+    .summary = "The cycle-axis motion of a call or hole cannot be bounded (a value or the start is unknown)",
+    .category = RuleCategory::Suspicious,
+    .enabled_by_default = false,
+};
 
 void report_unbounded_envelope(RuleContext& ctx, const BlockView& v, const Envelope& env) {
     ByteRange where = v.call ? macro::call_range(*v.call, v.block) : v.block.range;
@@ -49,7 +54,6 @@ void report_unbounded_envelope(RuleContext& ctx, const BlockView& v, const Envel
 class CycleAxisUnbounded final : public RuleBase<CycleAxisUnbounded> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         std::optional<Envelope> env = cycle_envelope(v, ctx.config());
         if (!env || !v.reachable || env->bounded()) return;

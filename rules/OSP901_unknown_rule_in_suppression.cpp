@@ -10,13 +10,18 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP901", "unknown-rule-in-suppression", Severity::Warning,
-                         "An osplint suppression directive names an unknown or unsuppressible rule, or is malformed"};
+constexpr RuleMeta kMeta{
+    .id = "OSP901",
+    .name = "unknown-rule-in-suppression",
+    .severity = Severity::Warning,
+    .summary = "An osplint suppression directive names an unknown or unsuppressible rule, or is malformed",
+    .category = RuleCategory::Directive,
+    .suppressible = false,
+};
 
 class UnknownRuleInSuppression final : public RuleBase<UnknownRuleInSuppression> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 };
 
 }  // namespace

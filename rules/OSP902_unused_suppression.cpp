@@ -8,13 +8,20 @@
 namespace osplint {
 namespace {
 
-constexpr RuleMeta kMeta{"OSP902", "unused-suppression", Severity::Info,
-                         "An osplint suppression directive silences no finding", false, FixSafety::Safe};
+constexpr RuleMeta kMeta{
+    .id = "OSP902",
+    .name = "unused-suppression",
+    .severity = Severity::Info,
+    .summary = "An osplint suppression directive silences no finding",
+    .category = RuleCategory::Directive,
+    .enabled_by_default = false,
+    .fix = FixSafety::Safe,
+    .suppressible = false,
+};
 
 class UnusedSuppression final : public RuleBase<UnusedSuppression> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_moves(const Config&) const override { return false; }
 };
 
 }  // namespace

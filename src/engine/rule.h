@@ -33,14 +33,64 @@ struct Config;
 // rule's doc page says the same in its header (the unit tests compare them).
 enum class FixSafety { None, Safe, Unsafe };
 
+// What a finding of the rule means on the machine, when it is right.
+enum class RuleCategory {
+    Alarm,        // the control stops the job with an alarm where the program reaches it
+    WrongMotion,  // no alarm: the machine moves, cuts or returns other than the program says
+    Suspicious,   // the program may not do what its author meant; the machine itself is not at risk
+    Directive,    // about osplint's own directives in comments
+};
+
+// How settled a rule is. A preview rule is off until a configuration or
+// `--select` turns it on, and its findings may still change.
+enum class RuleStatus { Stable, Preview };
+
+// Which blocks the engine hands to a rule's check_block.
+enum class RuleBlocks {
+    // Every block but a plain move (semantics/transfer.h: a G0/G1 block with
+    // nothing else, in a state where it cannot matter to such a rule), and
+    // plain moves that carry a sequence name. Most rules look only at these,
+    // and the engine walks a posted program of plain moves without them.
+    Statements,
+    All,  // every block, plain moves included
+};
+
+// A rule, as data: `osplint rules`, the doc page's header (generated from it
+// and checked by the unit tests), the configuration and the engine read it.
 struct RuleMeta {
     std::string_view id;        // "OSP104", never reused
     std::string_view name;      // "m52-on-call-line"
     Severity severity;          // default severity
     std::string_view summary;   // one line for `osplint rules`
+    RuleCategory category = RuleCategory::Suspicious;
     bool enabled_by_default = true;
     FixSafety fix = FixSafety::None;
+    RuleBlocks blocks = RuleBlocks::Statements;
+    // Whether a suppression directive may silence it (a block that does not
+    // parse is never silenced: every other rule trusts the syntax it reads).
+    bool suppressible = true;
+    RuleStatus status = RuleStatus::Stable;
+    std::string_view since = "0.1.0";  // the osplint version that introduced it
 };
+
+// A rule ID that names no rule any more: IDs are never reused, and a
+// configuration, a command line or a directive that still names it is told
+// what became of it.
+struct RetiredRule {
+    std::string_view id;           // "OSP117"
+    std::string_view name;         // its name then
+    std::string_view replaced_by;  // the ID that took its place (a redirect), or empty: removed
+    std::string_view since;        // the osplint version that retired it
+};
+
+std::string_view category_name(RuleCategory c);  // "alarm", "wrong-motion", ...
+std::string_view status_name(RuleStatus s);      // "stable", "preview"
+
+// The header paragraph of the rule's doc page (docs/rules/OSPnnn.md), made
+// from its metadata: default severity, category, version, and whether it is
+// off by default, in preview, fixable or unsuppressible. The unit tests hold
+// every page to it (and write it with OSPLINT_UPDATE_SNAPSHOTS=1).
+std::string rule_doc_header(const RuleMeta& meta);
 
 struct ProgramView {
     const Program& program;
@@ -96,7 +146,9 @@ public:
     // plain_move_state) under this configuration. Rules that return false are
     // not called for such blocks; the differential tests hold the engine to
     // the same findings as a walk that shows every rule every block.
-    virtual bool sees_plain_moves(const Config&) const { return true; }
+    // The default is what the metadata declares (RuleMeta::blocks); a rule
+    // overrides it only when the answer depends on the configuration.
+    virtual bool sees_plain_moves(const Config&) const { return meta().blocks == RuleBlocks::All; }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
     // another block (OSP004 once it knows where the program's content starts).
@@ -130,12 +182,16 @@ public:
     virtual const std::vector<RuleMeta>& all() const = 0;
     // Fresh instances of every rule, in ID order (rules keep state while a file is checked).
     virtual std::vector<std::unique_ptr<Rule>> make_all() const = 0;
+    // Rule IDs retired since: renamed (redirected) or removed.
+    virtual const std::vector<RetiredRule>& retired() const;
     const RuleMeta* find(std::string_view id) const {
         for (const auto& m : all())
             if (m.id == id) return &m;
         return nullptr;
     }
-    // The rules as a configuration names them.
+    // Whether `key` is a retired ID or name (resolve follows its redirect).
+    bool is_retired(std::string_view key) const;
+    // The rules as a configuration names them, retired IDs included.
     RuleIdentities identities() const;
     // The rule that `key` names, by ID or by name, in any case ("OSP104",
     // "m52-on-call-line"): what the command line, osplint.toml and the

@@ -18,9 +18,46 @@ std::vector<std::unique_ptr<Rule>> select_rules(const RuleRegistry& registry, co
     return out;
 }
 
+std::string_view category_name(RuleCategory c) {
+    switch (c) {
+        case RuleCategory::Alarm: return "alarm";
+        case RuleCategory::WrongMotion: return "wrong-motion";
+        case RuleCategory::Suspicious: return "suspicious";
+        case RuleCategory::Directive: return "directive";
+    }
+    return "suspicious";
+}
+
+std::string_view status_name(RuleStatus s) { return s == RuleStatus::Preview ? "preview" : "stable"; }
+
+std::string rule_doc_header(const RuleMeta& m) {
+    const std::string id(m.id);
+    const std::string severity(severity_name(m.severity));
+    std::string h = "**Default severity:** " + severity + ". **Category:** [" + std::string(category_name(m.category)) +
+                    "](README.md#categories). **Since:** " + std::string(m.since) + ".";
+    if (m.status == RuleStatus::Preview)
+        h += "\nPreview: its findings may still change; it runs only when a configuration or `--select` names it.";
+    if (!m.enabled_by_default)
+        h += "\nOff by default: enable it with `[rules] " + id + " = \"" + severity + "\"` or `--select " + id + "`.";
+    if (m.fix == FixSafety::Safe) h += "\nFix available (safe: `osplint check --fix` applies it).";
+    if (m.fix == FixSafety::Unsafe)
+        h += "\nFix available (unsafe: it changes what the machine does; `--fix --unsafe-fixes` applies it, editors "
+             "offer it).";
+    if (!m.suppressible) h += "\nCannot be suppressed by a directive.";
+    if (m.id == kSyntaxErrorRule) h += " `--ignore` and ID prefixes leave it on; `[rules] " + id + " = \"off\"` turns it off.";
+    return h;
+}
+
+const std::vector<RetiredRule>& RuleRegistry::retired() const {
+    static const std::vector<RetiredRule> none;
+    return none;
+}
+
 RuleIdentities RuleRegistry::identities() const {
     RuleIdentities v;
-    for (const auto& m : all()) v.push_back({m.id, m.name, m.severity, m.enabled_by_default});
+    for (const auto& m : all())
+        v.push_back({m.id, m.name, m.severity, m.enabled_by_default, m.id != kSyntaxErrorRule});
+    for (const auto& r : retired()) v.push_back({r.id, r.name, Severity::Warning, false, false, true, r.replaced_by});
     return v;
 }
 
@@ -28,6 +65,11 @@ const RuleMeta* RuleRegistry::resolve(std::string_view key) const {
     const RuleIdentities ids = identities();
     const RuleIdentity* r = resolve_rule(ids, key);
     return r ? find(r->id) : nullptr;
+}
+
+bool RuleRegistry::is_retired(std::string_view key) const {
+    const RuleIdentities ids = identities();
+    return retired_rule(ids, key) != nullptr;
 }
 
 std::string RuleRegistry::suggestion(std::string_view key) const { return rule_suggestion(identities(), key); }

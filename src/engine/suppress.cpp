@@ -72,7 +72,12 @@ SuppressionFilter::SuppressionFilter(const FileOutline& outline, const RuleRegis
             const uint32_t target = file_scope ? 0 : line.target_line;
             for (size_t k = 0; k < d.ids.size(); ++k) {
                 const auto& id = d.ids[k];
-                const RuleMeta* meta = rules.resolve(id.text);  // an ID or a name
+                const RuleMeta* meta = rules.resolve(id.text);  // an ID or a name, or a retired one redirected
+                if (meta && report_unknown_ && rules.is_retired(id.text))
+                    make(*unknown_meta_, id.range, line,
+                         fmt::format("'{}' is a retired name of {} ({}): the directive still silences {}, but "
+                                     "write its ID",
+                                     id.text, meta->id, meta->name, meta->id));
                 if (!meta) {
                     if (report_unknown_)
                         make(*unknown_meta_, id.range, line,
@@ -81,19 +86,18 @@ SuppressionFilter::SuppressionFilter(const FileOutline& outline, const RuleRegis
                                          id.text, rules.suggestion(id.text)));
                     continue;
                 }
-                if (meta->id == "OSP001") {
+                if (!meta->suppressible) {
                     if (report_unknown_)
                         make(*unknown_meta_, id.range, line,
-                             "OSP001 (syntax-error) cannot be suppressed: a block that does not parse would be "
-                             "passed over silently, and the control rejects it anyway; correct the block");
-                    continue;
-                }
-                if (meta == unknown_meta_ || meta == unused_meta_) {
-                    if (report_unknown_)
-                        make(*unknown_meta_, id.range, line,
-                             fmt::format("{} ({}) reports on the suppressions themselves and cannot be suppressed "
-                                         "by a directive; turn it off in osplint.toml ([rules]) or with --ignore",
-                                         meta->id, meta->name));
+                             meta->category == RuleCategory::Directive
+                                 ? fmt::format("{} ({}) reports on the suppressions themselves and cannot be "
+                                               "suppressed by a directive; turn it off in osplint.toml ([rules]) or "
+                                               "with --ignore",
+                                               meta->id, meta->name)
+                                 : fmt::format("{} ({}) cannot be suppressed: a block that does not parse would be "
+                                               "passed over silently, and the control rejects it anyway; correct "
+                                               "the block",
+                                               meta->id, meta->name));
                     continue;
                 }
                 entries_.push_back({std::string(meta->id), di, k, target, file_scope, false});
@@ -129,7 +133,7 @@ Diagnostic& SuppressionFilter::make(const RuleMeta& meta, ByteRange range, const
 
 // Block entries for the finding's line first, then file entries.
 const SuppressionFilter::Entry* SuppressionFilter::find(const Diagnostic& d) const {
-    if (entries_.empty() || d.rule == "OSP001") return nullptr;
+    if (entries_.empty()) return nullptr;  // (a rule that cannot be suppressed never has an entry)
     for (const auto& e : entries_)
         if (!e.file_scope && e.target_line != 0 && e.target_line == d.range.start.line && e.rule == d.rule) return &e;
     for (const auto& e : entries_)

@@ -675,9 +675,8 @@ json code_actions(const std::string& uri, const json& params, const SourceText& 
         }
         // A suppression comment at the end of the block's line.
         const std::string rule = string_field(d, "code");
-        const bool rule_id = rule.size() > 3 && rule.compare(0, 3, "OSP") == 0 &&
-                             std::all_of(rule.begin() + 3, rule.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
-        if (!rule_id || rule == "OSP001") continue;  // syntax errors cannot be suppressed
+        const RuleMeta* meta = builtin_rules().find(rule);
+        if (!meta || !meta->suppressible) continue;  // another tool's finding, or one no directive silences
         const uint32_t start = from_lsp_position(text, (*range)["start"], enc);
         const uint32_t line = text.line_of(start);
         if (!suppress_done.insert({rule, line}).second) continue;

@@ -112,7 +112,7 @@ void read_severities(std::map<std::string, std::optional<Severity>>& into, const
             // OSP001 (a program that does not parse) is turned off by its own key only.
             for (const auto& r : rules)
                 if (written.size() >= 4 && upper(written) == written && r.id.substr(0, written.size()) == written &&
-                    r.id != "OSP001")
+                    r.selected_by_prefix && !r.retired)
                     e.ids.push_back(std::string(r.id));
             e.rank = written.size();
         }
@@ -280,14 +280,27 @@ std::optional<Severity> Config::severity_of(std::string_view id, Severity defaul
 }
 
 const RuleIdentity* resolve_rule(const RuleIdentities& rules, std::string_view key) {
+    for (const auto& r : rules) {
+        if (!iequals(r.id, key) && !iequals(r.name, key)) continue;
+        if (!r.retired) return &r;
+        if (r.replaced_by.empty()) return nullptr;
+        return resolve_rule(rules, r.replaced_by);
+    }
+    return nullptr;
+}
+
+const RuleIdentity* retired_rule(const RuleIdentities& rules, std::string_view key) {
     for (const auto& r : rules)
-        if (iequals(r.id, key) || iequals(r.name, key)) return &r;
+        if (r.retired && (iequals(r.id, key) || iequals(r.name, key))) return &r;
     return nullptr;
 }
 
 std::string rule_suggestion(const RuleIdentities& rules, std::string_view key) {
+    if (const RuleIdentity* r = retired_rule(rules, key); r && r->replaced_by.empty())
+        return " (" + std::string(r->id) + " " + std::string(r->name) + " was removed)";
     std::vector<std::string_view> candidates;
     for (const auto& r : rules) {
+        if (r.retired) continue;
         candidates.push_back(r.id);
         candidates.push_back(r.name);
     }

@@ -77,14 +77,24 @@ struct RuleIdentity {
     std::string_view name;  // "m52-on-call-line": accepted wherever the ID is
     Severity severity;
     bool enabled_by_default;
+    // Whether an ID prefix ("OSP", "OSP0") turns it off too; the syntax-error
+    // rule is turned off by its own key only.
+    bool selected_by_prefix = true;
+    // A retired ID: it names `replaced_by` (a renamed rule), or nothing (removed).
+    bool retired = false;
+    std::string_view replaced_by;
 };
 using RuleIdentities = std::vector<RuleIdentity>;
 
-// The rule that `key` names: its ID or its name, in any case. The one mapping
-// from what a user writes to a rule (RuleRegistry::resolve uses it too).
+// The rule that `key` names: its ID or its name, in any case, or a retired ID
+// or name redirected to the rule that replaced it. The one mapping from what a
+// user writes to a rule (RuleRegistry::resolve uses it too).
 const RuleIdentity* resolve_rule(const RuleIdentities& rules, std::string_view key);
+// The retired ID or name `key` is, if it is one (resolve_rule follows its
+// redirect, if any: this says that it had to).
+const RuleIdentity* retired_rule(const RuleIdentities& rules, std::string_view key);
 // " (did you mean 'OSP104'?)" for the ID or name nearest to a key that names
-// no rule; empty when none is near.
+// no rule, " (OSP117 was removed)" for a removed one; empty when none is near.
 std::string rule_suggestion(const RuleIdentities& rules, std::string_view key);
 
 // Reads and validates configuration text. Throws ConfigError (file, line, key).
