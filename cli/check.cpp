@@ -54,8 +54,15 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
     cmd.add_option("--config", o.config, "Configuration file (default: nearest osplint.toml of each file)");
     cmd.add_option("--fail-on", o.fail_on, "Lowest severity that makes the exit code 1")
         ->check(CLI::IsMember({"error", "warning", "info", "never"}));
-    cmd.add_option("--select", o.select, "Only these rules (IDs, names or prefixes such as OSP2)")->delimiter(',');
-    cmd.add_option("--ignore", o.ignore, "Not these rules (IDs, names or prefixes)")->delimiter(',');
+    // One value per occurrence (comma-separated, repeatable): a list option
+    // that took every word after it would take the paths that follow too.
+    cmd.add_option("--select", o.select,
+                   "Only these rules (IDs, names or prefixes such as OSP2; comma-separated, repeatable)")
+        ->delimiter(',')
+        ->allow_extra_args(false);
+    cmd.add_option("--ignore", o.ignore, "Not these rules (IDs, names or prefixes; comma-separated, repeatable)")
+        ->delimiter(',')
+        ->allow_extra_args(false);
     cmd.add_option("--exclude", o.exclude,
                    "Skip files and folders matching this glob pattern when walking directories (repeatable; "
                    "adds to osplint.toml's exclude)")
