@@ -54,8 +54,15 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
     cmd.add_option("--config", o.config, "Configuration file (default: nearest osplint.toml of each file)");
     cmd.add_option("--fail-on", o.fail_on, "Lowest severity that makes the exit code 1")
         ->check(CLI::IsMember({"error", "warning", "info", "never"}));
-    cmd.add_option("--select", o.select, "Only these rules (IDs, names or prefixes such as OSP2)")->delimiter(',');
-    cmd.add_option("--ignore", o.ignore, "Not these rules (IDs, names or prefixes)")->delimiter(',');
+    // One value per occurrence (comma-separated, repeatable): a list option
+    // that took every word after it would take the paths that follow too.
+    cmd.add_option("--select", o.select,
+                   "Only these rules (IDs, names or prefixes such as OSP2; comma-separated, repeatable)")
+        ->delimiter(',')
+        ->allow_extra_args(false);
+    cmd.add_option("--ignore", o.ignore, "Not these rules (IDs, names or prefixes; comma-separated, repeatable)")
+        ->delimiter(',')
+        ->allow_extra_args(false);
     cmd.add_option("--exclude", o.exclude,
                    "Skip files and folders matching this glob pattern when walking directories (repeatable; "
                    "adds to osplint.toml's exclude)")
@@ -212,13 +219,14 @@ struct FixOutcome {
     DiffStats stats;
 };
 
-// Plans the fixes of a program read from `fd` (its state `before`); with
-// `diff`, renders them as a diff, else hands the fixed text to `write`.
-void fix_program(int fd, const struct stat& before, const std::string& path, const Config& config,
+// Plans the fixes of a program read from `fd` (its stamp `before`: a file
+// that changes while it is read fails the plan); with `diff`, renders them as
+// a diff, else hands the fixed text to `write`.
+void fix_program(int fd, const FileStamp& before, const std::string& path, const Config& config,
                  const AnalysisOptions& options, bool unsafe, bool diff,
                  const std::function<bool(FdSource&, const std::vector<Edit>&, std::string&)>& write,
                  FixOutcome& out) {
-    FdSource src(fd, static_cast<uint64_t>(before.st_size));
+    FdSource src(fd, before);
     FixPlan plan = plan_fixes(path, src, config, options, unsafe);
     if (!plan.refused.empty()) {
         (plan.failed ? out.error : out.note) = plan.refused;
@@ -252,24 +260,16 @@ void fix_file(const std::string& path, const Config& config, const AnalysisOptio
     if (ec) return;
     const int fd = ::open(target.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) return;
-    struct stat before;
-    if (::fstat(fd, &before) != 0 || !S_ISREG(before.st_mode) ||
-        static_cast<uint64_t>(before.st_size) > kMaxInputSize) {
+    struct stat st;
+    const std::optional<FileStamp> before = file_stamp(fd);
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || !before || before->size > kMaxInputSize) {
         ::close(fd);
         return;
     }
     auto write = [&](FdSource& src, const std::vector<Edit>& edits, std::string& error) {
-        struct stat now;
-        if (::stat(target.c_str(), &now) != 0 || now.st_ino != before.st_ino || now.st_dev != before.st_dev ||
-            now.st_size != before.st_size || now.st_mtim.tv_sec != before.st_mtim.tv_sec ||
-            now.st_mtim.tv_nsec != before.st_mtim.tv_nsec) {
-            error = "it changed while it was being checked";
-            return false;
-        }
-        return write_file_atomically(
-            target.string(), [&](const PieceWriter& put) { return apply_edits(src, edits, put, error); }, error);
+        return write_fixes(target.string(), *before, src, edits, error);
     };
-    fix_program(fd, before, path, config, options, unsafe, diff, write, out);
+    fix_program(fd, *before, path, config, options, unsafe, diff, write, out);
     ::close(fd);
 }
 
@@ -278,8 +278,8 @@ void fix_file(const std::string& path, const Config& config, const AnalysisOptio
 // becomes a temporary file of it, which the check then reads.
 void fix_stdin(int& fd, const std::string& path, const Config& config, const AnalysisOptions& options, bool unsafe,
                bool diff, FixOutcome& out) {
-    struct stat before;
-    if (fd < 0 || ::fstat(fd, &before) != 0) return;
+    const std::optional<FileStamp> before = fd < 0 ? std::nullopt : file_stamp(fd);
+    if (!before) return;
     int fixed_fd = -1;
     auto write = [&](FdSource& src, const std::vector<Edit>& edits, std::string& error) {
         std::FILE* f = std::tmpfile();
@@ -294,7 +294,7 @@ void fix_stdin(int& fd, const std::string& path, const Config& config, const Ana
         std::fclose(f);
         return ok && fixed_fd >= 0;
     };
-    fix_program(fd, before, path, config, options, unsafe, diff, write, out);
+    fix_program(fd, *before, path, config, options, unsafe, diff, write, out);
     if (diff) return;
     if (fixed_fd >= 0) {
         ::close(fd);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 #include <string_view>
@@ -126,7 +127,10 @@ inline size_t edit_distance(std::string_view a, std::string_view b) {
     return prev[b.size()];
 }
 
+// A value in a message; one that is not finite (which the state never holds:
+// Val::of) shows as unknown, never as "inf" or "nan".
 inline std::string format_number(double v) {
+    if (!std::isfinite(v)) return "?";
     std::string s = std::to_string(v);
     while (!s.empty() && s.back() == '0') s.pop_back();
     if (!s.empty() && s.back() == '.') s.pop_back();

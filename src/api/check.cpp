@@ -36,7 +36,10 @@ std::string check_fd(int fd, const std::string& path, const Config& config, cons
     struct stat st;
     if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
         if (static_cast<uint64_t>(st.st_size) > kMaxInputSize) return unreadable(path, kTooLargeMessage, sink);
-        FdSource src(fd, static_cast<uint64_t>(st.st_size));
+        const std::optional<FileStamp> opened = file_stamp(fd);
+        if (!opened) return unreadable(path, std::string("cannot read: ") + std::strerror(errno), sink);
+        // A file that changes while it is read is an I/O error (kChangedMessage).
+        FdSource src(fd, *opened);
         return check_source(path, src, config, options, sink);
     }
     SpoolSource src(fd);

@@ -303,4 +303,15 @@ FixPlan plan_fixes(const std::string& path, ByteSource& original, const Config& 
     }
 }
 
+bool write_fixes(const std::string& target, const FileStamp& read, ByteSource& original,
+                 const std::vector<Edit>& edits, std::string& error) {
+    const std::optional<FileStamp> now = file_stamp(target);
+    if (!now || *now != read) {
+        error = "it changed while it was being checked";
+        return false;
+    }
+    return write_file_atomically(
+        target, [&](const PieceWriter& put) { return apply_edits(original, edits, put, error); }, error);
+}
+
 }  // namespace osplint

@@ -73,6 +73,14 @@ bool compose_edits(ByteSource& original, const std::vector<Edit>& earlier, const
 using ByteSink = std::function<bool(std::string_view)>;
 bool apply_edits(ByteSource& original, const std::vector<Edit>& edits, const ByteSink& put, std::string& error);
 
+// Writes `original` with `edits` applied over the file `target`, atomically
+// (write_file_atomically), unless that file is no longer the one that was
+// read, whose stamp is `read`: it changed while it was being checked, or it
+// was replaced. False with `error` set then ("it changed while it was being
+// checked"), and the file is left as it is.
+bool write_fixes(const std::string& target, const FileStamp& read, ByteSource& original,
+                 const std::vector<Edit>& edits, std::string& error);
+
 inline constexpr unsigned kMaxFixRounds = 10;
 
 // What fixing one program comes to.

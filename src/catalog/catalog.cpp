@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <charconv>
 #include <mutex>
 #include <stdexcept>
@@ -46,6 +47,7 @@ std::optional<double> parse_number(std::string_view s) {
     double v = 0;
     auto res = std::from_chars(s.data(), s.data() + s.size(), v);
     if (res.ec != std::errc() || res.ptr != s.data() + s.size()) return std::nullopt;
+    if (!std::isfinite(v)) return std::nullopt;  // "inf", "nan": no value a program can be checked against
     return v;
 }
 

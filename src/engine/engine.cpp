@@ -334,8 +334,10 @@ std::string Walk::run() {
         first = program_index_ + 1;
     }
     for (size_t i = first; i < outline_.programs.size() && !stop_ && error_.empty(); ++i) walk_program(i);
-    if (error_.empty() && !stop_ && main_.next_offset() != outline_.size)
-        fail("the file changed while it was being checked: check it again");
+    if (error_.empty() && !stop_ && main_.next_offset() != outline_.size) fail(kChangedMessage);
+    // Written in place (same size) while it was read: the findings may be of neither text.
+    if (error_.empty())
+        if (std::string changed = src_.changed(); !changed.empty()) fail(std::move(changed));
 
     // The findings that stand for the folded ones, then those about the directives.
     for (Diagnostic& d : folder_.finish([&](uint64_t, ByteRange r) { return positions_.range(r); }))
@@ -353,7 +355,7 @@ void Walk::fail(std::string message) {
 bool Walk::read(Block& b, LineRef& line) {
     if (!main_.next(line)) {
         if (main_.error()) fail(main_.stop_reason().empty() ? src_.error() : main_.stop_reason());
-        else fail("the file changed while it was being checked: check it again");
+        else fail(kChangedMessage);
         return false;
     }
     if (main_.last_start() + line.text.size() + line.terminator.size() > kMaxInputSize) {

@@ -24,8 +24,8 @@ namespace {
 bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
 
 std::string format_number(double v) {
-    if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15)
-        return fmt::format("{}", static_cast<long long>(v));
+    if (!std::isfinite(v)) return "?";  // never "inf" or "nan" in a hover
+    if (v == std::floor(v) && std::fabs(v) < 1e15) return fmt::format("{}", static_cast<long long>(v));
     return fmt::format("{}", v);
 }
 

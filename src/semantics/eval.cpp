@@ -36,7 +36,18 @@ std::optional<double> apply_function(const std::string& f, const std::vector<dou
     return {};  // BIN, BCD and anything else: not evaluated
 }
 
+std::optional<double> eval_node(const Block& b, ExprId id, const ModalState& s, int depth);
+
+// Every value, the parts' as well as the whole's, is finite or unknown: a sum or
+// a product too large for a double (`VC1=[A*B]`) is unknown, never an
+// infinity that a comparison would turn back into 0 or 1.
 std::optional<double> eval_rec(const Block& b, ExprId id, const ModalState& s, int depth) {
+    const std::optional<double> v = eval_node(b, id, s, depth);
+    if (v && !std::isfinite(*v)) return {};
+    return v;
+}
+
+std::optional<double> eval_node(const Block& b, ExprId id, const ModalState& s, int depth) {
     if (depth > kMaxDepth) return {};
     const ExprNode* n = b.expr(id);
     if (!n) return {};
@@ -87,9 +98,7 @@ std::optional<double> eval_rec(const Block& b, ExprId id, const ModalState& s, i
                 if (!v) return {};
                 args.push_back(*v);
             }
-            auto v = apply_function(n->text, args);
-            if (v && !std::isfinite(*v)) return {};
-            return v;
+            return apply_function(n->text, args);
         }
         case ExprKind::String:
         case ExprKind::Empty:
@@ -127,9 +136,7 @@ std::optional<std::string> variable_key(const Block& b, ExprId id, const ModalSt
 }
 
 std::optional<double> evaluate(const Block& block, ExprId e, const ModalState& state) {
-    auto v = eval_rec(block, e, state, 0);
-    if (v && !std::isfinite(*v)) return {};
-    return v;
+    return eval_rec(block, e, state, 0);
 }
 
 std::optional<int> common_variable_number(std::string_view key) {

@@ -15,7 +15,8 @@ namespace osplint {
 std::optional<std::string> variable_key(const Block& block, ExprId var, const ModalState& state);
 
 // Numeric value of an expression, or nullopt when any part is unknown (system
-// variables, unset locals, EMPTY, strings, division by zero, ...).
+// variables, unset locals, EMPTY, strings, division by zero, a literal or a
+// result too large for a double, ...). A value is always finite.
 std::optional<double> evaluate(const Block& block, ExprId e, const ModalState& state);
 
 // Common variable number of a key ("VC120" -> 120), or nullopt.

@@ -105,7 +105,7 @@ template <class T, class F>
 std::string show(const Val<T>& v, F f) {
     return v.known ? f(v.value) : std::string("?");
 }
-std::string num(double d) { return fmt::format("{:g}", d); }
+std::string num(double d) { return std::isfinite(d) ? fmt::format("{:g}", d) : std::string("?"); }
 }  // namespace
 
 std::string describe_state(const ModalState& s) {

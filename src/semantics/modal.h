@@ -6,11 +6,13 @@
 // unknown. Rules never fire on an unknown field.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "syntax/model.h"
@@ -22,7 +24,13 @@ struct Val {
     bool known = false;
     T value{};
 
-    static Val of(T v) { return Val{true, std::move(v)}; }
+    // A number too large for a double (a sum of huge values) is unknown: the
+    // state never holds an infinity or a NaN that a message could print.
+    static Val of(T v) {
+        if constexpr (std::is_floating_point_v<T>)
+            if (!std::isfinite(v)) return Val{};
+        return Val{true, std::move(v)};
+    }
     static Val unknown() { return Val{}; }
     bool is(const T& v) const { return known && value == v; }
     // Merge: equal known values stay, anything else becomes unknown.

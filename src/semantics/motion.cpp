@@ -14,7 +14,8 @@
 namespace osplint {
 
 std::string motion_number(double v) {
-    double r = std::round(v * 10000.0) / 10000.0;
+    if (!std::isfinite(v)) return "?";  // never "inf" or "nan" in a message
+    double r = std::fabs(v) < 1e15 ? std::round(v * 10000.0) / 10000.0 : v;
     if (r == 0) r = 0;  // no "-0"
     std::string s = fmt::format("{:.4f}", r);
     while (!s.empty() && s.back() == '0') s.pop_back();

@@ -41,10 +41,47 @@ int64_t pread_full(int fd, uint64_t offset, char* buf, size_t len) {
     return static_cast<int64_t>(done);
 }
 
+namespace {
+FileStamp stamp_of(const struct stat& st) {
+    return FileStamp{static_cast<uint64_t>(st.st_dev), static_cast<uint64_t>(st.st_ino),
+                     static_cast<uint64_t>(st.st_size), static_cast<int64_t>(st.st_mtim.tv_sec),
+                     static_cast<int64_t>(st.st_mtim.tv_nsec)};
+}
+}  // namespace
+
+std::optional<FileStamp> file_stamp(int fd) {
+    struct stat st;
+    if (::fstat(fd, &st) != 0) return std::nullopt;
+    return stamp_of(st);
+}
+
+std::optional<FileStamp> file_stamp(const std::string& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+    return stamp_of(st);
+}
+
 int64_t FdSource::read(uint64_t offset, char* buf, size_t len) {
     const int64_t r = pread_full(fd_, offset, buf, len);
-    if (r < 0) error_ = std::string("read error: ") + std::strerror(errno);
+    if (r < 0) {
+        error_ = std::string("read error: ") + std::strerror(errno);
+        return r;
+    }
+    if (opened_) {
+        // Short before the size the file had, or bytes past it: not the file opened.
+        const uint64_t end = offset + static_cast<uint64_t>(r);
+        if ((static_cast<size_t>(r) < len && end < opened_->size) || end > opened_->size) {
+            error_ = kChangedMessage;
+            return -1;
+        }
+    }
     return r;
+}
+
+std::string FdSource::changed() const {
+    if (!opened_) return {};
+    const std::optional<FileStamp> now = file_stamp(fd_);
+    return now && *now == *opened_ ? std::string() : std::string(kChangedMessage);
 }
 
 SpoolSource::SpoolSource(int fd, uint64_t limit) : in_(fd), limit_(limit) {

@@ -41,6 +41,25 @@ struct LineRef {
     uint32_t end() const { return start + static_cast<uint32_t>(text.size() + terminator.size()); }
 };
 
+// What tells that a file is no longer the one that was read: its device,
+// inode, size and modification time. A file replaced (a new inode), cut,
+// extended or written in place does not keep its stamp.
+struct FileStamp {
+    uint64_t device = 0;
+    uint64_t inode = 0;
+    uint64_t size = 0;
+    int64_t mtime_sec = 0;
+    int64_t mtime_nsec = 0;
+    friend bool operator==(const FileStamp&, const FileStamp&) = default;
+};
+// The stamp of an open file (fstat), or of the file a path names (stat,
+// through symbolic links); nullopt when it cannot be had.
+std::optional<FileStamp> file_stamp(int fd);
+std::optional<FileStamp> file_stamp(const std::string& path);
+// What a file that changed while it was read is reported with (an I/O error:
+// its findings may be wrong, at the place it was cut above all).
+inline constexpr const char* kChangedMessage = "the file changed while it was being checked: check it again";
+
 class ByteSource {
 public:
     virtual ~ByteSource() = default;
@@ -50,6 +69,9 @@ public:
     virtual std::optional<uint64_t> size() const { return std::nullopt; }
     // Why the last read failed.
     virtual std::string error() const { return "read error"; }
+    // After reading: kChangedMessage when the input is known to be no longer
+    // what was read (a file that changed meanwhile), else "".
+    virtual std::string changed() const { return {}; }
 };
 
 class MemorySource final : public ByteSource {
@@ -68,16 +90,23 @@ private:
 int64_t pread_full(int fd, uint64_t offset, char* buf, size_t len);
 
 // A regular file (or anything pread works on). The descriptor is not owned.
+// With the file's stamp when it was opened, a read that finds the file
+// shorter or longer than it was fails with kChangedMessage (so a cut line is
+// never taken for the program's last line), and changed() compares the stamp
+// with the file's at the end.
 class FdSource final : public ByteSource {
 public:
     FdSource(int fd, std::optional<uint64_t> size) : fd_(fd), size_(size) {}
+    FdSource(int fd, const FileStamp& opened) : fd_(fd), size_(opened.size), opened_(opened) {}
     int64_t read(uint64_t offset, char* buf, size_t len) override;
     std::optional<uint64_t> size() const override { return size_; }
     std::string error() const override { return error_; }
+    std::string changed() const override;
 
 private:
     int fd_;
     std::optional<uint64_t> size_;
+    std::optional<FileStamp> opened_;
     std::string error_ = "read error";
 };
 

@@ -6,6 +6,7 @@
 // file is never skipped silently.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -20,9 +21,14 @@ namespace osplint {
 ProgramFile parse_program_file(std::string path, std::string text);
 
 // Value of a decimal literal as the grammar lexes it (`12`, `3.`, `.5`, `00`),
-// correctly rounded (std::from_chars). Too many digits for a double give
-// infinity, or 0 after a leading point. Shared by both front ends.
-double decimal_literal_value(std::string_view digits);
+// correctly rounded (std::from_chars). nullopt when it is too large for a
+// double (some 309 digits before the point): such a literal is a syntax error
+// (number_too_large_message) and has no value, so that no infinity reaches the
+// analysis. Too many zeros after the point give 0. Shared by both front ends.
+std::optional<double> decimal_literal_value(std::string_view digits);
+// The message of the syntax error on a literal too large for a double (the
+// literal shortened when it is long).
+std::string number_too_large_message(std::string_view literal);
 // The same without parsing error lines again (for a text of one line).
 ProgramFile parse_program_file_once(std::string path, std::string text);
 

@@ -115,9 +115,11 @@ uint32_t FastLineParser::Impl::label_word(uint32_t p, uint32_t e) {
         digits = digits && is_digit(s[i]);
     }
     if (digits && e > p + 1) {
+        const std::optional<double> v = decimal_literal_value(std::string_view(s + p + 1, e - p - 1));
+        if (!v) return kFail;  // too large: the tree-sitter front end reports it
         const size_t wi = words_used - 1;
         ExprNode& num = new_expr(ExprKind::Number, abs(p + 1, e));
-        num.number = decimal_literal_value(std::string_view(s + p + 1, e - p - 1));
+        num.number = *v;
         Word& ww = b->words[wi];
         ww.number = num.number;
         ww.value = last_expr();

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -61,7 +62,9 @@ inline constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e
 // latest, and computes its value in the same pass: at most 15 digits take
 // the exact path (the digits as an integer and the power of ten are exact
 // doubles, so their quotient is the correctly rounded value), longer ones
-// decimal_literal_value. Returns the end, or t when there is no number. With
+// decimal_literal_value. Returns the end, or t when there is no number or it
+// is too large for a double (the line then goes to the tree-sitter front end,
+// which reports it). With
 // kSentinel the byte at e is neither a digit nor a point (the line's
 // terminator), so the scans need not compare with e.
 template <bool kSentinel>
@@ -83,8 +86,13 @@ OSPLINT_HOT const char* scan_number(const char* t, const char* e, double& value)
     } else if (count == 0) {
         return start;
     }
-    value = count <= 15 ? (fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m))
-                        : decimal_literal_value(std::string_view(start, static_cast<size_t>(t - start)));
+    if (count <= 15) {
+        value = fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m);
+        return t;
+    }
+    const std::optional<double> v = decimal_literal_value(std::string_view(start, static_cast<size_t>(t - start)));
+    if (!v) return start;
+    value = *v;
     return t;
 }
 // The same on s[p..n): returns the end offset, or p when there is no number.

@@ -198,6 +198,30 @@ void Converter::word(TSTreeCursor* c, TSNode n, Block& b) {
     b.words.push_back(std::move(w));
 }
 
+// The literal `digits` as the Number node `e` (its range set). One too large
+// for a double is an error on the block and an Error node, without a value:
+// no infinity reaches the analysis.
+std::optional<double> Converter::number_value(Block& b, ExprNode& e, std::string_view digits) {
+    const std::optional<double> v = decimal_literal_value(digits);
+    if (!v) {
+        e.kind = ExprKind::Error;
+        e.number = 0;
+        error(b, e.range, number_too_large_message(digits));
+        return std::nullopt;
+    }
+    e.kind = ExprKind::Number;
+    e.number = *v;
+    return v;
+}
+
+// The same for a hex constant whose value `e` holds (hex_value).
+void Converter::unusable_if_infinite(Block& b, ExprNode& e) {
+    if (std::isfinite(e.number)) return;
+    e.kind = ExprKind::Error;
+    e.number = 0;
+    error(b, e.range, number_too_large_message(text(e.range)));
+}
+
 // The glued number of `X-.75`: value = Unary(-, Number(.75)), number = -0.75.
 void Converter::plain_number(TSNode n, Block& b, Word& w) {
     const ByteRange r = range_of(n);
@@ -207,11 +231,9 @@ void Converter::plain_number(TSNode n, Block& b, Word& w) {
         sign = t[0];
         t.remove_prefix(1);
     }
-    const double v = decimal_literal_value(t);
     ExprNode num;
-    num.kind = ExprKind::Number;
-    num.number = v;
     num.range = {sign ? r.begin + 1 : r.begin, r.end};
+    const std::optional<double> v = number_value(b, num, t);
     const ExprId num_id = push(b, std::move(num));
     if (sign) {
         ExprNode un;
@@ -220,7 +242,7 @@ void Converter::plain_number(TSNode n, Block& b, Word& w) {
         un.children.push_back(num_id);
         un.range = r;
         w.value = push(b, std::move(un));
-        w.number = sign == '-' ? -v : v;
+        if (v) w.number = sign == '-' ? -*v : *v;
     } else {
         w.value = num_id;
         w.number = v;
@@ -250,10 +272,8 @@ void Converter::label_word(TSNode n, Block& b) {
     const std::string_view v = text(w.value_range);
     if (!v.empty() && std::all_of(v.begin(), v.end(), [](char ch) { return ch >= '0' && ch <= '9'; })) {
         ExprNode num;
-        num.kind = ExprKind::Number;
-        num.number = decimal_literal_value(v);
         num.range = w.value_range;
-        w.number = num.number;
+        w.number = number_value(b, num, v);
         w.value = push(b, std::move(num));
         w.value_text = std::string(v);
     }
@@ -351,9 +371,10 @@ void Converter::control_statement(TSTreeCursor* c, TSNode n, Block& b, TSSymbol 
             if (ts_node_is_missing(ch)) {
                 syntax_error(b, range_of(ch), "expected a loop number after " + std::string(kind == StmtKind::While ? "DO" : keyword));
             } else {
-                const double v = decimal_literal_value(text(ch));
-                loop = v >= 0 && v <= 1e9 && v == std::floor(v) ? static_cast<int>(v) : -1;
-                if (loop < 0) error(b, range_of(ch), "loop number must be a whole number");
+                const std::optional<double> v = decimal_literal_value(text(ch));
+                loop = v && *v >= 0 && *v <= 1e9 && *v == std::floor(*v) ? static_cast<int>(*v) : -1;
+                if (!v) error(b, range_of(ch), number_too_large_message(text(ch)));
+                else if (loop < 0) error(b, range_of(ch), "loop number must be a whole number");
             }
         } else {
             other_child(c, ch, b);
@@ -456,17 +477,18 @@ ExprId Converter::expr(TSTreeCursor* c, Block& b, int depth) {
 // EMPTY, a variable. False when `s` is none of them.
 bool Converter::leaf_expr(TSNode n, TSSymbol s, Block& b, ExprNode& e) {
     if (s == g_.number) {
-        e.kind = ExprKind::Number;
-        e.number = decimal_literal_value(text(n));
+        number_value(b, e, text(n));
     } else if (s == g_.hex_constant) {
         const std::string_view t = text(n);  // #81H
         e.kind = ExprKind::HexConst;
         e.text = std::string(t);
         e.number = hex_value(t.size() >= 2 ? t.substr(1, t.size() - 2) : std::string_view());
+        unusable_if_infinite(b, e);
     } else if (s == g_.hex_subscript) {
         e.kind = ExprKind::HexConst;
         e.text = std::string(text(n));
         e.number = hex_value(e.text);
+        unusable_if_infinite(b, e);
     } else if (s == g_.string) {
         std::string_view t = text(n);
         e.kind = ExprKind::String;

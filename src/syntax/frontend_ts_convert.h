@@ -79,6 +79,8 @@ private:
     void item(TSTreeCursor* c, TSNode n, Block& b, Context ctx);
     void word(TSTreeCursor* c, TSNode n, Block& b);
     void plain_number(TSNode n, Block& b, Word& w);
+    std::optional<double> number_value(Block& b, ExprNode& e, std::string_view digits);
+    void unusable_if_infinite(Block& b, ExprNode& e);
     std::optional<double> literal_value(const Block& b, ExprId id) const;
     void label_word(TSNode n, Block& b);
     void assignment(TSTreeCursor* c, TSNode n, Block& b, Context ctx);

@@ -18,4 +18,12 @@ expect "long option of trace" 2 "did you mean '--svg'\?" -- trace --svgg out.svg
 expect "option nothing is near" 2 "unknown option '--xyzzy-plugh'" -- check --xyzzy-plugh P.MIN
 expect "the parser's own message stays" 2 "not expected" -- check --formt json P.MIN
 expect "a correct command is not touched" 0 "in 1 file" -- check --format text P.MIN
+# A list option takes one value (comma-separated) and leaves the paths after it alone.
+printf 'O1000\nCALL OZAGR PX=1 M52\nM30\n' > Q.MIN
+expect "--select before two paths" 1 "in 2 files" -- check --select OSP104 P.MIN Q.MIN
+expect "--select before two paths checks the first" 1 "^Q.MIN:.*OSP104" -- check --select OSP104 Q.MIN P.MIN
+expect "--ignore before two paths" 0 "in 2 files" -- check --ignore OSP1 Q.MIN P.MIN
+expect "--select, a comma-separated list" 1 "OSP104" -- check --select OSP207,OSP104 Q.MIN P.MIN
+expect "--select repeated" 1 "OSP104" -- check --select OSP207 --select OSP104 Q.MIN P.MIN
+expect "--ignore repeated" 0 "in 2 files" -- check --ignore OSP101 --ignore OSP104 Q.MIN P.MIN
 exit $fail

@@ -16,6 +16,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstring>
 #include <map>
 #include <random>
@@ -192,6 +193,40 @@ TEST_CASE("engine: program boundaries, subprograms and names") {
         CHECK(add_program_names(src, names));
         CHECK(names == ProgramNames{"O1234"});
     }
+}
+
+TEST_CASE("engine: a number too large for a double is an OSP001 and no message says inf or nan") {
+    // The case of the report: a cycle whose R and Z, and the position before
+    // it, had 400 digits gave "Rinf is above the initial point Z-inf".
+    const std::string huge(400, '9');
+    const std::string big(308, '9');  // a double still; two of them added are not
+    const std::string half(200, '9');  // its square is not
+    const std::string text = "O1000\nG0 X0 Z-" + huge + "\nG81 Z-" + huge + " R" + huge +
+                             " F0.1\nG80\nG0 Z10\nG81 Z-" + huge + " R5 F0.1\nG80\nVC1=" + half + "*" + half +
+                             "\nG81 Z=VC1 R=-VC1 F0.1\nG80\nG91 G0 Z" + big + "\nZ" + big +
+                             "\nG90 G81 Z1 R" + big + " F0.1\nG80\nM02\n";
+    compare_checks("a.min", text, Config{});
+    const FileResult r = check_text("a.min", text, Config{});
+    auto says_inf_or_nan = [](const std::string& s) {
+        for (const char* word : {"inf", "nan"})
+            for (size_t at = 0; (at = s.find(word, at)) != std::string::npos; ++at) {
+                const bool letter_before = at > 0 && std::isalpha(static_cast<unsigned char>(s[at - 1]));
+                const bool letter_after = at + 3 < s.size() && std::isalpha(static_cast<unsigned char>(s[at + 3]));
+                if (!letter_before && !letter_after) return true;
+            }
+        return false;
+    };
+    size_t too_large = 0;
+    for (const auto& d : r.diagnostics) {
+        CAPTURE(d.message);
+        CHECK_FALSE(says_inf_or_nan(d.message));
+        for (const auto& n : d.notes) CHECK_FALSE(says_inf_or_nan(n.message));
+        for (const auto& f : d.fixes) CHECK_FALSE(says_inf_or_nan(f.title));
+        if (d.rule == "OSP001" && d.message.find("(400 digits) is too large to be read as a value") != std::string::npos)
+            ++too_large;
+    }
+    CHECK(too_large == 4);  // each 400-digit literal, none of the others
+    for (const auto& d : r.diagnostics) CHECK(d.rule != "OSP205");
 }
 
 TEST_CASE("engine: a loop read again whose walk with the rules changes a join is walked again") {

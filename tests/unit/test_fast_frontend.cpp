@@ -160,6 +160,29 @@ TEST_CASE("fast front end: lines too deep or too long past their error give the 
     }
 }
 
+TEST_CASE("fast front end: numbers too large for a double give the tree-sitter model and its error") {
+    const std::string over(400, '9');
+    const std::vector<std::string> lines = {
+        "G81 Z-" + over + " R" + over + " F0.1",
+        "N10 G1 X" + over + " Y-" + over,
+        "X=" + over + "+1",
+        "VC1=[" + over + "*" + over + "]",
+        "CALL OZAGR PX=" + over,
+        "G85 N" + over + " D7",
+        "G1 X." + std::string(400, '0') + "1 Z0." + std::string(400, '0') + "1",
+    };
+    for (size_t i = 0; i < lines.size(); ++i) {
+        const std::string text = "G0\n" + lines[i] + "\nG1 X2\n" + lines[i];
+        const ModelComparison c = compare_models("huge" + std::to_string(i) + ".min", text);
+        CHECK_MESSAGE(c.strict == 0, c.report);
+        const ProgramFile f = parse_program_file("huge.min", text);
+        REQUIRE(f.blocks.size() == 4);
+        const bool tiny = i + 1 == lines.size();
+        CHECK(f.blocks[1].errors.empty() == tiny);
+        CHECK(f.blocks[1].errors.size() == f.blocks[3].errors.size());
+    }
+}
+
 TEST_CASE("tree-sitter front end: an error line is parsed on its own, whatever its neighbours") {
     // `$` inside a block: in the whole file, error recovery took `$1 D12` for a
     // tape header after a missing line end, which gave no syntax error at all.

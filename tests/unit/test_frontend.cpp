@@ -2,6 +2,7 @@
 // errors at exact byte ranges, and hostile input.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -601,14 +602,44 @@ TEST_CASE("hostile input never crashes") {
         CHECK(f.blocks[0].comments.at(0).range.size() == (2u << 20) + 2);
         CHECK(error_count(f) == 0);
     }
-    SUBCASE("400,000-digit number") {
-        const auto f = parse("G0 X" + std::string(400000, '9') + "\nY." + std::string(400000, '0') + "1\n");
-        REQUIRE(f.blocks.size() == 2);
+    SUBCASE("400,000-digit number: too large for a value, an error, no infinity") {
+        const auto f = parse("G0 X" + std::string(400000, '9') + "\nY." + std::string(400000, '0') + "1\nZ0." +
+                             std::string(400000, '0') + "1\n");
+        REQUIRE(f.blocks.size() == 3);
         REQUIRE(f.blocks[0].words.size() == 2);
-        CHECK(f.blocks[0].words[1].number.has_value());
-        CHECK(*f.blocks[0].words[1].number > 1e300);
+        CHECK_FALSE(f.blocks[0].words[1].number.has_value());
+        REQUIRE(f.blocks[0].expr(f.blocks[0].words[1].value));
+        CHECK(f.blocks[0].expr(f.blocks[0].words[1].value)->kind == ExprKind::Error);
+        REQUIRE(f.blocks[0].errors.size() == 1);
+        CHECK(f.blocks[0].errors[0].message ==
+              "the number 999999999999...99999999 (400000 digits) is too large to be read as a value");
+        CHECK(f.blocks[0].errors[0].range.size() == 400000);
+        // Many zeros after the point: 0, as near as a double gets.
         CHECK(f.blocks[1].words.at(0).number == 0.0);
+        CHECK(f.blocks[2].words.at(0).number == 0.0);
+        CHECK(f.blocks[1].errors.empty());
+        CHECK(f.blocks[2].errors.empty());
+    }
+    SUBCASE("the largest literals a double holds, and the smallest it does not") {
+        const std::string fits(308, '9');   // 1e308 - 1
+        const std::string over(309, '9');   // above DBL_MAX (1.8e308)
+        for (const std::string& line :
+             {"X-" + over, "X=" + over + "+1", "VC1=[" + over + " GT 1]", "G85 N" + over, "DO " + over,
+              "VC2=#" + std::string(300, 'F') + "H", "IF [VC1 EQ " + over + "] NA"}) {
+            CAPTURE(line.substr(0, 12));
+            const auto f = parse(line + "\n");
+            REQUIRE(f.blocks.size() == 1);
+            REQUIRE_FALSE(f.blocks[0].errors.empty());
+            CHECK(f.blocks[0].errors[0].message.find("is too large to be read as a value") != std::string::npos);
+            for (const auto& w : f.blocks[0].words)
+                if (w.value_text.size() > 300) CHECK_FALSE(w.number.has_value());
+            for (const auto& e : f.blocks[0].exprs)
+                if (e.kind == ExprKind::Number || e.kind == ExprKind::HexConst) CHECK(std::isfinite(e.number));
+        }
+        const auto f = parse("X-" + fits + "\n");
         CHECK(error_count(f) == 0);
+        REQUIRE(f.blocks[0].words.at(0).number.has_value());
+        CHECK(*f.blocks[0].words[0].number < -9e307);
     }
     SUBCASE("invalid UTF-8") {
         const auto f = parse("G0 (\xFF\xFE\xC3\x28)\nX\xC3\xA9=1\nG1\n");

@@ -4,6 +4,7 @@
 // Writing a file atomically: replaced whole or not at all.
 #include <doctest/doctest.h>
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "api/check.h"
+#include "api/fix.h"
 #include "support/io.h"
 #include "syntax/outline.h"
 
@@ -150,4 +152,150 @@ TEST_CASE("a UTF-16 file is said to be UTF-16, not a syntax error on every line"
     }
     // A UTF-8 byte order mark is read as usual.
     CHECK(check_text("U8.MIN", "\xEF\xBB\xBFO1\nG0 X1\nM30\n", Config{}).io_error.empty());
+}
+
+namespace {
+
+// A program of `lines` moves, with a cycle block whose line a cut splits.
+std::string long_program(int lines) {
+    std::string text = "O1000\nG0 X0 Z10\n";
+    for (int i = 0; i < lines; ++i) text += "G1 X" + std::to_string(i % 50) + ". F100\n";
+    return text + "G81 Z-5. R2. F100\nG80\nM30\n";
+}
+
+struct ScratchFile {
+    std::string path;
+    int fd = -1;
+    explicit ScratchFile(const std::string& text) {
+        path = (std::filesystem::temp_directory_path() /
+                ("osplint-changed-" + std::to_string(::getpid()) + ".MIN"))
+                   .string();
+        std::string error;
+        REQUIRE(write_file_atomically(path, text, error));
+        fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+        REQUIRE(fd >= 0);
+    }
+    ~ScratchFile() {
+        ::close(fd);
+        std::filesystem::remove(path);
+    }
+};
+
+FileResult check_source_collected(const std::string& path, ByteSource& src, const AnalysisOptions& options = {}) {
+    ResultCollector collect;
+    check_source(path, src, Config{}, options, collect);
+    return collect.take();
+}
+
+size_t syntax_errors(const FileResult& r) {
+    size_t n = 0;
+    for (const auto& d : r.diagnostics) n += d.rule == "OSP001";
+    return n;
+}
+
+// Cuts the file at `cut_at` the first time it is read after a read reached
+// its end (the outline's pass): the walk then finds it shorter.
+class CutDuringWalk final : public ByteSource {
+public:
+    CutDuringWalk(FdSource& inner, int fd, uint64_t cut_at) : inner_(inner), fd_(fd), cut_at_(cut_at) {}
+    int64_t read(uint64_t offset, char* buf, size_t len) override {
+        if (outline_read_ && !cut_) {
+            REQUIRE(::ftruncate(fd_, static_cast<off_t>(cut_at_)) == 0);
+            cut_ = true;
+        }
+        const int64_t r = inner_.read(offset, buf, len);
+        if (r >= 0 && static_cast<size_t>(r) < len) outline_read_ = true;
+        return r;
+    }
+    std::string error() const override { return inner_.error(); }
+    std::string changed() const override { return inner_.changed(); }
+    bool cut() const { return cut_; }
+
+private:
+    FdSource& inner_;
+    int fd_;
+    uint64_t cut_at_;
+    bool outline_read_ = false;
+    bool cut_ = false;
+};
+
+}  // namespace
+
+TEST_CASE("a file that changes while it is checked is an I/O error, with no syntax error at the cut") {
+    const std::string text = long_program(200);
+    const uint64_t cut = text.find("G81 Z-5.") + 6;  // "G81 Z-" is left: a syntax error if it were the file
+    ScratchFile file(text);
+    const std::optional<FileStamp> opened = file_stamp(file.fd);
+    REQUIRE(opened);
+    CHECK(opened->size == text.size());
+
+    SUBCASE("unchanged: no error") {
+        FdSource src(file.fd, *opened);
+        const FileResult r = check_source_collected(file.path, src);
+        CHECK(r.io_error.empty());
+        CHECK(syntax_errors(r) == 0);
+        CHECK(src.changed().empty());
+    }
+    SUBCASE("cut after it was opened, before it is read") {
+        REQUIRE(::ftruncate(file.fd, static_cast<off_t>(cut)) == 0);
+        FdSource src(file.fd, *opened);
+        const FileResult r = check_source_collected(file.path, src);
+        CHECK(r.io_error == kChangedMessage);
+        CHECK(syntax_errors(r) == 0);
+    }
+    SUBCASE("cut while the walk reads it") {
+        FdSource inner(file.fd, *opened);
+        CutDuringWalk src(inner, file.fd, cut);
+        AnalysisOptions options;
+        options.chunk_size = 256;
+        const FileResult r = check_source_collected(file.path, src, options);
+        CHECK(src.cut());
+        CHECK(r.io_error == kChangedMessage);
+        CHECK(syntax_errors(r) == 0);
+    }
+    SUBCASE("longer than when it was opened") {
+        REQUIRE(::pwrite(file.fd, "G0 X1\n", 6, static_cast<off_t>(text.size())) == 6);
+        FdSource src(file.fd, *opened);
+        CHECK(check_source_collected(file.path, src).io_error == kChangedMessage);
+    }
+    SUBCASE("written in place with the same size") {
+        const std::string same = "O1001";  // as long as "O1000"
+        REQUIRE(::pwrite(file.fd, same.data(), same.size(), 0) == static_cast<ssize_t>(same.size()));
+        const struct timespec times[2] = {{1, 0}, {1, 0}};  // a modification time unlike the one opened
+        REQUIRE(::futimens(file.fd, times) == 0);
+        FdSource src(file.fd, *opened);
+        CHECK(check_source_collected(file.path, src).io_error == kChangedMessage);
+    }
+    SUBCASE("check_fd and check_path take the stamp when they open the file") {
+        CHECK(check_file(file.path, Config{}).io_error.empty());
+    }
+}
+
+TEST_CASE("--fix writes over a file only when it is the one that was read") {
+    const std::string text = "O1000\nG0 X0\nM30\n";
+    const std::vector<Edit> edits = {{6, 8, "G00"}};
+    ScratchFile file(text);
+    const std::optional<FileStamp> opened = file_stamp(file.fd);
+    REQUIRE(opened);
+    std::string error;
+
+    SUBCASE("unchanged: written") {
+        FdSource src(file.fd, *opened);
+        CHECK(write_fixes(file.path, *opened, src, edits, error));
+        CHECK(slurp(file.path) == "O1000\nG00 X0\nM30\n");
+    }
+    SUBCASE("changed while it was checked: refused, and left as it is") {
+        REQUIRE(::pwrite(file.fd, "G0 X1\n", 6, static_cast<off_t>(text.size())) == 6);
+        FdSource src(file.fd, *opened);
+        CHECK_FALSE(write_fixes(file.path, *opened, src, edits, error));
+        CHECK(error == "it changed while it was being checked");
+        CHECK(slurp(file.path) == text + "G0 X1\n");
+    }
+    SUBCASE("replaced by another file: refused") {
+        REQUIRE(write_file_atomically(file.path, text, error));  // the same text, a new inode
+        FdSource src(file.fd, *opened);
+        CHECK_FALSE(write_fixes(file.path, *opened, src, edits, error));
+        CHECK(error == "it changed while it was being checked");
+        CHECK(slurp(file.path) == text);
+    }
 }
