@@ -137,7 +137,7 @@ void check_pinned(const fs::path& pinned, const std::string& actual, std::string
     if (updating_snapshots()) {
         if (!exists || read_file(pinned) != actual) {
             write_file(pinned, actual);
-            MESSAGE((exists ? "updated " : "wrote ") << shown.string());
+            MESSAGE(std::string(exists ? "updated " : "wrote ") << shown.string());
         }
         return;
     }
