@@ -173,7 +173,7 @@ uint32_t newlines(std::string_view s) { return static_cast<uint32_t>(std::count(
 uint32_t line_after_edits(std::string_view original, const std::vector<Edit>& edits, uint32_t offset, uint32_t line) {
     int64_t shift = 0;
     for (const auto& e : edits)
-        if (e.end <= offset && e.begin < offset)
+        if (e.end <= offset)
             shift += int64_t(newlines(e.text)) - int64_t(newlines(original.substr(e.begin, e.end - e.begin)));
     return static_cast<uint32_t>(int64_t(line) + shift);
 }
@@ -290,6 +290,15 @@ TEST_CASE("every rule fixture's findings and fixed program are what its .snap an
                 FAIL_CHECK("a finding without a fix is gone from the fixed program (line " << line << "): " << message);
         }
     }
+}
+
+TEST_CASE("a finding's line after the fixes: moved by the lines the edits before it add or remove") {
+    const std::string text = "A\nB\nC\n";
+    CHECK(line_after_edits(text, {{2, 2, "X\n"}}, 2, 2) == 3);  // a line inserted where the finding starts
+    CHECK(line_after_edits(text, {{2, 2, "X\n"}}, 0, 1) == 1);
+    CHECK(line_after_edits(text, {{0, 2, ""}, {4, 4, "Y\nZ\n"}}, 4, 3) == 4);
+    CHECK(line_after_edits(text, {{0, 2, ""}}, 2, 2) == 1);
+    CHECK(line_after_edits(text, {{4, 5, "C"}}, 2, 2) == 2);  // an edit after it
 }
 
 TEST_CASE("every rule doc's problematic example fires the rule and its correct example does not") {
