@@ -82,7 +82,8 @@ std::vector<fs::path> programs_under(const fs::path& dir) {
     std::vector<fs::path> out;
     if (!fs::exists(dir)) return out;
     for (const auto& e : fs::recursive_directory_iterator(dir))
-        if (e.is_regular_file() && e.path().extension() != ".toml" && e.path().extension() != ".md")
+        if (e.is_regular_file() && e.path().extension() != ".toml" && e.path().extension() != ".md" &&
+            e.path().extension() != ".snap" && e.path().extension() != ".fixed")  // a fixture's snapshots
             out.push_back(e.path());
     std::sort(out.begin(), out.end());
     return out;

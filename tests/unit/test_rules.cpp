@@ -3,21 +3,30 @@
 // * tests/rules/OSPnnn/*: each program runs with ONLY that rule enabled and the
 //   configuration of its directory (an osplint.toml there, else the defaults);
 //   every finding must be expected inline and every expectation found.
+// * Beside each of those programs, NAME.snap pins every finding in full
+//   (snapshot.h), and NAME.fixed, when the rule offers fixes there, the program
+//   with all of them applied. OSPLINT_UPDATE_SNAPSHOTS=1 rewrites both
+//   (scripts/update-snapshots [OSPnnn]).
 // * docs/rules/OSPnnn.md: the "Problematic program" example fires the rule and
 //   the "Correct program" example does not.
 // * examples/: with every rule enabled, findings match the inline expectations
 //   exactly; the clean examples have none at warning or error.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
+#include <set>
 
+#include "api/fix.h"
 #include "support/embedded.h"
 #include "engine/workspace.h"
 #include "expectations.h"
 #include "rules/registry.h"
+#include "snapshot.h"
 
 namespace fs = std::filesystem;
 using namespace osplint;
@@ -32,11 +41,19 @@ Config config_for(const fs::path& dir) {
     return Config{};
 }
 
+// The snapshot and the fixed program pinned beside a fixture.
+constexpr std::string_view kSnapshotSuffix = ".snap";
+constexpr std::string_view kFixedSuffix = ".fixed";
+
+bool is_pinned_output(const fs::path& p) { return p.extension() == kSnapshotSuffix || p.extension() == kFixedSuffix; }
+
 std::vector<fs::path> programs_in(const fs::path& dir) {
     std::vector<fs::path> out;
     if (!fs::exists(dir)) return out;
     for (const auto& e : fs::recursive_directory_iterator(dir))
-        if (e.is_regular_file() && e.path().extension() != ".toml" && e.path().extension() != ".md") out.push_back(e.path());
+        if (e.is_regular_file() && !is_pinned_output(e.path()) && e.path().extension() != ".toml" &&
+            e.path().extension() != ".md")
+            out.push_back(e.path());
     std::sort(out.begin(), out.end());
     return out;
 }
@@ -78,6 +95,87 @@ std::vector<RuleMeta> rules_under_test() {
         if (!only || !*only || m.id == only || m.name == only) out.push_back(m);
     REQUIRE_MESSAGE(!out.empty(), "no rule " << std::string(only ? only : ""));
     return out;
+}
+
+// How a fixture of `rule` runs: only that rule, the osplint.toml of its
+// folder, and the names of the subprograms beside it.
+struct FixtureRun {
+    Config config;
+    ProgramNames names;
+    AnalysisOptions options;
+    FixtureRun(const fs::path& fixture, std::string_view rule) : config(config_for(fixture.parent_path())) {
+        options.only_rules = {std::string(rule)};
+        SubprogramDirectories().add_names(fixture.parent_path(), names);
+        options.known_programs = &names;
+    }
+    FixtureRun(const FixtureRun&) = delete;
+    FixtureRun& operator=(const FixtureRun&) = delete;
+};
+
+fs::path relative_to_source(const fs::path& p) { return fs::relative(p, source_dir()); }
+
+// OSPLINT_UPDATE_SNAPSHOTS=1: the snapshot tests rewrite the pinned files
+// rather than compare them.
+bool updating_snapshots() {
+    const char* u = std::getenv("OSPLINT_UPDATE_SNAPSHOTS");
+    return u && *u && std::string_view(u) != "0";
+}
+
+std::string update_command(std::string_view rule) { return "scripts/update-snapshots " + std::string(rule); }
+
+void write_file(const fs::path& p, std::string_view text) {
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out << text;
+    REQUIRE_MESSAGE(out.flush().good(), "cannot write " << p.string());
+}
+
+// Compares what a fixture gives now with the file that pins it (or rewrites
+// the file when updating).
+void check_pinned(const fs::path& pinned, const std::string& actual, std::string_view rule, const fs::path& fixture) {
+    const fs::path shown = relative_to_source(pinned);
+    const bool exists = fs::exists(pinned);
+    if (updating_snapshots()) {
+        if (!exists || read_file(pinned) != actual) {
+            write_file(pinned, actual);
+            MESSAGE(std::string(exists ? "updated " : "wrote ") << shown.string());
+        }
+        return;
+    }
+    if (!exists) {
+        FAIL_CHECK(shown.string() << " is missing: run `" << update_command(rule) << "` to write it, and read it");
+        return;
+    }
+    const std::string expected = read_file(pinned);
+    if (expected != actual)
+        FAIL_CHECK(shown.string() << " does not match what " << relative_to_source(fixture).string()
+                                  << " gives now (- the file, + now):\n"
+                                  << line_diff(expected, actual) << "If the change is intended, run `"
+                                  << update_command(rule) << "` and read the new file.");
+}
+
+// A pinned file that should not be there (its fixture is gone, or it no
+// longer has fixes): a failure, or removed when updating.
+void check_unwanted(const fs::path& pinned, std::string_view rule, std::string_view why) {
+    if (!fs::exists(pinned)) return;
+    if (updating_snapshots()) {
+        fs::remove(pinned);
+        MESSAGE("removed " << relative_to_source(pinned).string());
+        return;
+    }
+    FAIL_CHECK(relative_to_source(pinned).string() << " should not be there (" << why << "): run `"
+                                                   << update_command(rule) << "` to remove it");
+}
+
+uint32_t newlines(std::string_view s) { return static_cast<uint32_t>(std::count(s.begin(), s.end(), '\n')); }
+
+// The line that `line` (starting at byte `offset` of `original`) becomes once
+// `edits` are applied.
+uint32_t line_after_edits(std::string_view original, const std::vector<Edit>& edits, uint32_t offset, uint32_t line) {
+    int64_t shift = 0;
+    for (const auto& e : edits)
+        if (e.end <= offset)
+            shift += int64_t(newlines(e.text)) - int64_t(newlines(original.substr(e.begin, e.end - e.begin)));
+    return static_cast<uint32_t>(int64_t(line) + shift);
 }
 
 }  // namespace
@@ -122,23 +220,95 @@ TEST_CASE("every rule has fixtures that pass with only that rule enabled") {
         size_t expected_total = 0;
         for (const auto& f : files) {
             CAPTURE(f.string());
-            Config config = config_for(f.parent_path());
-            AnalysisOptions options;
-            options.only_rules = {std::string(meta.id)};
-            ProgramNames names;
-            SubprogramDirectories().add_names(f.parent_path(), names);
-            options.known_programs = &names;
+            const FixtureRun run(f, meta.id);
             std::string text = read_file(f);
             auto expected = parse_expectations(text);
             for (const auto& e : expected) CHECK_MESSAGE(e.rule == meta.id, "fixture expects another rule: " << e.rule);
             expected_total += expected.size();
-            FileResult r = check_text(f.string(), text, config, options);
+            FileResult r = check_text(f.string(), text, run.config, run.options);
             auto problems = compare(expected, r.diagnostics, {});
             for (const auto& p : problems) FAIL_CHECK(p);
             check_fixes_agree(meta, r.diagnostics);
         }
         CHECK_MESSAGE(expected_total > 0, "the fixtures of " << meta.id << " never expect it to fire");
     }
+}
+
+TEST_CASE("every rule fixture's findings and fixed program are what its .snap and .fixed files pin") {
+    for (const auto& meta : rules_under_test()) {
+        CAPTURE(meta.id);
+        const fs::path dir = source_dir() / "tests" / "rules" / std::string(meta.id);
+        const auto files = programs_in(dir);
+        std::set<fs::path> fixtures(files.begin(), files.end());
+        // A pinned file belongs to a fixture.
+        if (fs::exists(dir))
+            for (const auto& e : fs::recursive_directory_iterator(dir))
+                if (e.is_regular_file() && is_pinned_output(e.path()) &&
+                    !fixtures.count(fs::path(e.path()).replace_extension()))
+                    check_unwanted(e.path(), meta.id, "no fixture of that name");
+        for (const auto& f : files) {
+            CAPTURE(f.string());
+            const FixtureRun run(f, meta.id);
+            const std::string text = read_file(f);
+            const FileResult r = check_text(f.string(), text, run.config, run.options);
+            const std::string name = fs::relative(f, dir).generic_string();
+            check_pinned(f.string() + std::string(kSnapshotSuffix), snapshot_of(meta.id, name, r.diagnostics), meta.id, f);
+
+            const fs::path fixed_path = f.string() + std::string(kFixedSuffix);
+            const bool any_fix = std::any_of(r.diagnostics.begin(), r.diagnostics.end(),
+                                             [](const Diagnostic& d) { return !d.fixes.empty(); });
+            if (!any_fix) {
+                check_unwanted(fixed_path, meta.id, "the rule offers no fix on its fixture");
+                continue;
+            }
+            // Every fix, safe and unsafe, as `osplint check --fix --unsafe-fixes` applies them.
+            MemorySource original(text);
+            const FixPlan plan = plan_fixes(f.string(), original, run.config, run.options, true);
+            REQUIRE_MESSAGE(plan.refused.empty(), "the fixes are not applied: " << plan.refused);
+            REQUIRE_MESSAGE(!plan.edits.empty(), "the findings offer fixes, and none is applied");
+            std::string fixed, error;
+            REQUIRE_MESSAGE(apply_edits(original, plan.edits, [&](std::string_view piece) {
+                fixed += piece;
+                return true;
+            }, error), error);
+            check_pinned(fixed_path, fixed, meta.id, f);
+
+            // The fixed program parses.
+            AnalysisOptions syntax = run.options;
+            syntax.only_rules = {std::string(kSyntaxErrorRule)};
+            for (const auto& d : check_text(f.string(), fixed, run.config, syntax).diagnostics)
+                FAIL_CHECK("the fixed program has a syntax error on line " << d.range.start.line << ": " << d.message);
+
+            // Checked again, it has exactly the findings that had no fix, each
+            // on its line as the edits moved it: every finding with a fix is
+            // gone, and the fixes made no new one.
+            std::multiset<std::pair<uint32_t, std::string>> left, expected_left;
+            for (const auto& d : r.diagnostics)
+                if (d.fixes.empty())
+                    expected_left.insert({line_after_edits(text, plan.edits, d.range.bytes.begin, d.range.start.line),
+                                          d.message});
+            for (const auto& d : check_text(f.string(), fixed, run.config, run.options).diagnostics)
+                left.insert({d.range.start.line, d.message});
+            std::vector<std::pair<uint32_t, std::string>> made, gone;
+            std::set_difference(left.begin(), left.end(), expected_left.begin(), expected_left.end(),
+                                std::back_inserter(made));
+            std::set_difference(expected_left.begin(), expected_left.end(), left.begin(), left.end(),
+                                std::back_inserter(gone));
+            for (const auto& [line, message] : made)
+                FAIL_CHECK("the fixed program still has, or now has, a finding on line " << line << ": " << message);
+            for (const auto& [line, message] : gone)
+                FAIL_CHECK("a finding without a fix is gone from the fixed program (line " << line << "): " << message);
+        }
+    }
+}
+
+TEST_CASE("a finding's line after the fixes: moved by the lines the edits before it add or remove") {
+    const std::string text = "A\nB\nC\n";
+    CHECK(line_after_edits(text, {{2, 2, "X\n"}}, 2, 2) == 3);  // a line inserted where the finding starts
+    CHECK(line_after_edits(text, {{2, 2, "X\n"}}, 0, 1) == 1);
+    CHECK(line_after_edits(text, {{0, 2, ""}, {4, 4, "Y\nZ\n"}}, 4, 3) == 4);
+    CHECK(line_after_edits(text, {{0, 2, ""}}, 2, 2) == 1);
+    CHECK(line_after_edits(text, {{4, 5, "C"}}, 2, 2) == 2);  // an edit after it
 }
 
 TEST_CASE("every rule doc's problematic example fires the rule and its correct example does not") {
