@@ -5,7 +5,7 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{
-    .id = "OSP001",
+    .id = kSyntaxErrorRule,
     .name = "syntax-error",
     .severity = Severity::Error,
     .summary = "The block does not parse as OSP part-program syntax",

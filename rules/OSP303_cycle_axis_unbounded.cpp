@@ -13,6 +13,7 @@ constexpr RuleMeta kMeta{
     .summary = "The cycle-axis motion of a call or hole cannot be bounded (a value or the start is unknown)",
     .category = RuleCategory::Suspicious,
     .enabled_by_default = false,
+    .analysis_switch = "explain-unknown",
 };
 
 void report_unbounded_envelope(RuleContext& ctx, const BlockView& v, const Envelope& env) {

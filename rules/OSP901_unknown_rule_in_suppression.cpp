@@ -11,7 +11,7 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{
-    .id = "OSP901",
+    .id = kBadSuppressionRule,
     .name = "unknown-rule-in-suppression",
     .severity = Severity::Warning,
     .summary = "An osplint suppression directive names an unknown or unsuppressible rule, or is malformed",

@@ -9,7 +9,7 @@ namespace osplint {
 namespace {
 
 constexpr RuleMeta kMeta{
-    .id = "OSP902",
+    .id = kUnusedSuppressionRule,
     .name = "unused-suppression",
     .severity = Severity::Info,
     .summary = "An osplint suppression directive silences no finding",

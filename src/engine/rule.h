@@ -22,9 +22,15 @@
 
 namespace osplint {
 
-// The rule that reports what does not parse: every other rule trusts the
-// syntax it reads, so a file with its findings is never fixed.
+// The rules whose findings the engine itself makes, by role; each rule's
+// metadata takes its ID from here, and nothing else names them by string.
+// What does not parse: every other rule trusts the syntax it reads, so a file
+// with its findings is never fixed.
 inline constexpr std::string_view kSyntaxErrorRule = "OSP001";
+// A suppression directive naming an unknown or unsuppressible rule, or malformed.
+inline constexpr std::string_view kBadSuppressionRule = "OSP901";
+// A suppression directive that silences nothing.
+inline constexpr std::string_view kUnusedSuppressionRule = "OSP902";
 
 class Catalog;
 struct Config;
@@ -71,6 +77,9 @@ struct RuleMeta {
     bool suppressible = true;
     RuleStatus status = RuleStatus::Stable;
     std::string_view since = "0.1.0";  // the osplint version that introduced it
+    // An [analysis] switch of osplint.toml that turns the rule on (at its
+    // default severity) unless [rules] says otherwise: "explain-unknown".
+    std::string_view analysis_switch;
 };
 
 // A rule ID that names no rule any more: IDs are never reused, and a

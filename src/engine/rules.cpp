@@ -38,7 +38,9 @@ std::string rule_doc_header(const RuleMeta& m) {
     if (m.status == RuleStatus::Preview)
         h += "\nPreview: its findings may still change; it runs only when a configuration or `--select` names it.";
     if (!m.enabled_by_default)
-        h += "\nOff by default: enable it with `[rules] " + id + " = \"" + severity + "\"` or `--select " + id + "`.";
+        h += "\nOff by default: enable it with `[rules] " + id + " = \"" + severity + "\"`" +
+             (m.analysis_switch.empty() ? std::string() : ", `[analysis] " + std::string(m.analysis_switch) + " = true`") +
+             " or `--select " + id + "`.";
     if (m.fix == FixSafety::Safe) h += "\nFix available (safe: `osplint check --fix` applies it).";
     if (m.fix == FixSafety::Unsafe)
         h += "\nFix available (unsafe: it changes what the machine does; `--fix --unsafe-fixes` applies it, editors "
@@ -56,8 +58,9 @@ const std::vector<RetiredRule>& RuleRegistry::retired() const {
 RuleIdentities RuleRegistry::identities() const {
     RuleIdentities v;
     for (const auto& m : all())
-        v.push_back({m.id, m.name, m.severity, m.enabled_by_default, m.id != kSyntaxErrorRule});
-    for (const auto& r : retired()) v.push_back({r.id, r.name, Severity::Warning, false, false, true, r.replaced_by});
+        v.push_back({m.id, m.name, m.severity, m.enabled_by_default, m.id != kSyntaxErrorRule, false, {},
+                     m.analysis_switch});
+    for (const auto& r : retired()) v.push_back({r.id, r.name, Severity::Warning, false, false, true, r.replaced_by, {}});
     return v;
 }
 

@@ -35,8 +35,8 @@ bool SuppressionFilter::runs(const RuleMeta& meta) const { return rule_runs(meta
 SuppressionFilter::SuppressionFilter(const FileOutline& outline, const RuleRegistry& rules, const Config& config,
                                      const std::vector<std::string>& only_rules)
     : rules_(rules), config_(config), only_(only_rules) {
-    unknown_meta_ = rules.find("OSP901");
-    unused_meta_ = rules.find("OSP902");
+    unknown_meta_ = rules.find(kBadSuppressionRule);
+    unused_meta_ = rules.find(kUnusedSuppressionRule);
     report_unknown_ = unknown_meta_ && runs(*unknown_meta_);
     report_unused_ = unused_meta_ && runs(*unused_meta_);
 

@@ -353,8 +353,11 @@ Config read_config_text(std::string_view text, const std::string& origin, const 
     std::vector<std::pair<std::string, std::string>> chain;
     chain.emplace_back(identity_of(origin), origin);
     Config c = read_chain(text, origin, rules, chain);
-    // explain-unknown turns on the "cannot tell" findings (OSP303) unless [rules] says otherwise.
-    if (c.explain_unknown && !c.rule_severity.count("OSP303")) c.rule_severity["OSP303"] = Severity::Info;
+    // explain-unknown turns on the rules that say "cannot tell" unless [rules] says otherwise.
+    if (c.explain_unknown)
+        for (const auto& r : rules)
+            if (r.analysis_switch == "explain-unknown" && !c.rule_severity.count(std::string(r.id)))
+                c.rule_severity[std::string(r.id)] = r.severity;
     return c;
 }
 

@@ -83,6 +83,7 @@ struct RuleIdentity {
     // A retired ID: it names `replaced_by` (a renamed rule), or nothing (removed).
     bool retired = false;
     std::string_view replaced_by;
+    std::string_view analysis_switch;  // RuleMeta::analysis_switch
 };
 using RuleIdentities = std::vector<RuleIdentity>;
 
