@@ -14,6 +14,7 @@ if [[ ${1:-} == --test ]]; then
              clang libclang-rt-14-dev  # the differential fuzzer (tests/scripts/fuzz_short.sh)
              time  # peak RSS in bench/run.sh
              python3  # the Python example consumer (tests/scripts/install_consumers.sh)
+             python3-jsonschema  # the schemas of osplint.toml and the catalog (tests/scripts/config_schema.sh)
              chromium  # renders the HTML report headless (tests/scripts/html_report.sh)
              groff-base  # the manual page renders without warnings (tests/scripts/man_completions.sh)
              zsh  # ... and the zsh completion parses
