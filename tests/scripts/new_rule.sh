@@ -65,6 +65,13 @@ expect "osplint rules lists $id" 0 "^$id +sample-check " -- rules
 expect "osplint check --select $id reports it on fires.MIN" 1 "fires.MIN:3:1: warning: .*\[$id\]" -- \
   check --select "$id" --format gcc "tests/rules/$id/fires.MIN"
 
+if grep -q "\"$id\"" schema/osplint.schema.json && grep -q '"sample-check"' schema/osplint.schema.json &&
+  tools/update-schema --check "$osplint" >/dev/null 2>&1; then
+  ok "the configuration schema offers $id and sample-check in [rules]"
+else
+  not_ok "the configuration schema does not offer $id, or is out of date"
+fi
+
 # The rule's tests, with one command: its fixtures, snapshots, doc page.
 run_rule_tests() { OSPLINT_ONLY_RULE=$id "$OSPLINT_BUILD_DIR/osplint_tests" --test-case='every rule*' 2>&1; }
 if out=$(run_rule_tests); then
