@@ -42,6 +42,9 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/LICENSE DEST
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
         FILES_MATCHING PATTERN "*.md" PATTERN "*.svg" PATTERN "*.png" PATTERN "man" EXCLUDE)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# The JSON Schemas of osplint.toml and the catalog, for editors (#:schema).
+install(FILES ${PROJECT_SOURCE_DIR}/schema/osplint.schema.json ${PROJECT_SOURCE_DIR}/schema/catalog.schema.json
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/osplint/schema)
 # Manual pages and shell completions, where the tree has them.
 file(GLOB OSPLINT_MAN_PAGES ${PROJECT_SOURCE_DIR}/docs/man/*.1)
 if(OSPLINT_MAN_PAGES)

@@ -26,7 +26,8 @@ cmake --install "$build" --prefix "$prefix" >"$tmp/install.log"
 libdir=$(dirname "$(find "$prefix" -name 'libosplint.so' | head -1)")
 for f in bin/osplint include/osplint/osplint.h include/osplint/diagnostic.h include/osplint/osplint_c.h \
   share/doc/osplint/LICENSE share/doc/osplint/README.md share/man/man1/osplint.1 \
-  share/bash-completion/completions/osplint share/zsh/vendor-completions/_osplint; do
+  share/bash-completion/completions/osplint share/zsh/vendor-completions/_osplint \
+  share/osplint/schema/osplint.schema.json share/osplint/schema/catalog.schema.json; do
   [[ -e $prefix/$f ]] && ok "installed $f" || not_ok "$f is not installed"
 done
 for f in libosplint.so libosplint.a pkgconfig/osplint.pc cmake/osplint/osplintConfig.cmake \

@@ -25,7 +25,7 @@ ok "built $(basename "$deb")"
 
 contents=$(dpkg-deb --contents "$deb" | awk '{print $6}')
 for f in ./usr/bin/osplint ./usr/include/osplint/osplint.h ./usr/include/osplint/osplint_c.h \
-  ./usr/share/doc/osplint/LICENSE; do
+  ./usr/share/doc/osplint/LICENSE ./usr/share/osplint/schema/osplint.schema.json; do
   grep -qxF "$f" <<<"$contents" && ok "contains $f" || not_ok "does not contain $f"
 done
 for pattern in '/libosplint\.so\.[0-9.]+$' '/libosplint\.a$' '/pkgconfig/osplint\.pc$' '/cmake/osplint/osplintConfig\.cmake$' \
