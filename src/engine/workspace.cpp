@@ -50,6 +50,7 @@ void SubprogramDirectories::add_names(const std::filesystem::path& dir_in, Progr
         if (f.mtime != mtime || f.size != size || f.names.empty()) {
             f.names.clear();
             add_program_names(it->path(), f.names);
+            ++files_read_;
             f.mtime = mtime;
             f.size = size;
         }

@@ -7,6 +7,7 @@
 // both.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -36,6 +37,8 @@ public:
     void add_names(const std::filesystem::path& dir, ProgramNames& out);
     // Forget what was read (files changed on disk).
     void invalidate();
+    // How many files were read for their names so far.
+    uint64_t files_read() const { return files_read_; }
 
     static constexpr std::uintmax_t max_file_size = 64u << 20;
 
@@ -51,6 +54,7 @@ private:
         bool valid = false;
     };
     std::mutex m_;
+    std::atomic<uint64_t> files_read_{0};
     std::map<std::string, FileEntry> files_;
     std::map<std::string, DirEntry> dirs_;
 };

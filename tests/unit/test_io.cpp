@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -18,6 +19,7 @@
 
 #include "api/check.h"
 #include "api/fix.h"
+#include "engine/workspace.h"
 #include "support/io.h"
 #include "syntax/outline.h"
 
@@ -298,4 +300,32 @@ TEST_CASE("--fix writes over a file only when it is the one that was read") {
         CHECK(error == "it changed while it was being checked");
         CHECK(slurp(file.path) == text);
     }
+}
+
+TEST_CASE("subprogram names: a folder of 2,000 subprogram files is read once, then one stat answers") {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("osplint-subdirs-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (int i = 0; i < 2000; ++i)
+        std::ofstream(dir / ("P" + std::to_string(i) + ".SSB")) << "O" << (1000 + i) << "\nG0 X1\nRTS\n";
+    SubprogramDirectories dirs;
+    ProgramNames names;
+    dirs.add_names(dir, names);
+    CHECK(dirs.files_read() == 2000);
+    CHECK(names.size() == 2000);
+    CHECK(names.count("O2999"));
+    // Asked again (every edit of a document in that folder): nothing is read.
+    for (int k = 0; k < 10; ++k) {
+        ProgramNames again;
+        dirs.add_names(dir, again);
+        CHECK(again == names);
+    }
+    CHECK(dirs.files_read() == 2000);
+    // After the files changed on disk, each is read again once.
+    dirs.invalidate();
+    ProgramNames after;
+    dirs.add_names(dir, after);
+    CHECK(dirs.files_read() == 4000);
+    fs::remove_all(dir);
 }
