@@ -7,6 +7,9 @@ osplint=${1:?usage: hostile_input.sh path/to/osplint}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail=0
+# Time limits are for a release build; a sanitizer build (unoptimised, every
+# access checked) is given OSPLINT_TIME_SCALE times as long (scripts/test).
+scale=${OSPLINT_TIME_SCALE:-1}
 
 python3 - "$dir" <<'PY'
 import os, random, sys
@@ -45,7 +48,7 @@ ln -s "$dir/does-not-exist.MIN" "$dir/DANGLING.MIN"
 
 run() {  # run ARGS... ; checks exit code and stderr (time limit: $LIMIT seconds)
   local out err code
-  out=$(timeout "${LIMIT:-120}" "$osplint" "$@" 2>"$dir/stderr" >"${OUT:-/dev/null}"; echo $?)
+  out=$(timeout "$(( ${LIMIT:-120} * scale ))" "$osplint" "$@" 2>"$dir/stderr" >"${OUT:-/dev/null}"; echo $?)
   code=$out
   err=$(cat "$dir/stderr")
   if [[ $code -gt 2 ]]; then
@@ -77,12 +80,12 @@ run trace "$dir/NEST.MIN"
 for f in DEEP DEEPIF SIGNS RUNBRACKET RUNCOMMA RUNEQUALS MANYRUNS; do
   LIMIT=30 run check --format json "$dir/$f.MIN"
   LIMIT=30 run trace "$dir/$f.MIN"
-  timeout 30 "$osplint" check --format json "$dir/$f.MIN" > "$dir/out.json" 2>/dev/null
+  timeout $(( 30 * scale )) "$osplint" check --format json "$dir/$f.MIN" > "$dir/out.json" 2>/dev/null
   grep -q '"OSP001"' "$dir/out.json" || { echo "FAIL: $f.MIN gives no OSP001"; fail=1; }
 done
-grep -q 'expression nested too deeply' <(timeout 30 "$osplint" check "$dir/DEEP.MIN" 2>&1) ||
+grep -q 'expression nested too deeply' <(timeout $(( 30 * scale )) "$osplint" check "$dir/DEEP.MIN" 2>&1) ||
   { echo "FAIL: 70,000 open brackets are not reported as nested too deeply"; fail=1; }
-grep -q 'not read further' <(timeout 30 "$osplint" check "$dir/RUNBRACKET.MIN" 2>&1) ||
+grep -q 'not read further' <(timeout $(( 30 * scale )) "$osplint" check "$dir/RUNBRACKET.MIN" 2>&1) ||
   { echo "FAIL: a long run after an error does not say the line was not read further"; fail=1; }
 
 # Many findings on one line, in every format, folded or not.
@@ -146,7 +149,7 @@ except subprocess.TimeoutExpired:
 if code != 0: print("the server exited with", code); sys.exit(1)
 PY
 for f in DEEP DEEPIF SIGNS RUNBRACKET; do
-  if timeout 60 python3 "$dir/lsp_case.py" "$osplint" "$dir/$f.MIN"; then echo "ok: osplint lsp with $f.MIN"
+  if timeout $(( 60 * scale )) python3 "$dir/lsp_case.py" "$osplint" "$dir/$f.MIN"; then echo "ok: osplint lsp with $f.MIN"
   else echo "FAIL: osplint lsp with $f.MIN"; fail=1; fi
 done
 
@@ -175,11 +178,11 @@ for fmt in text json sarif; do
   OUT=/dev/full LIMIT=30 run check --format $fmt "$dir/progs"
   [[ $LAST_CODE -eq 2 && $LAST_ERR == *"could not be written"* ]] || { echo "FAIL: $fmt to /dev/full needs exit 2 and a message"; fail=1; }
 done
-code=$(timeout 30 "$osplint" check "$dir/progs" 2>"$dir/stderr" >&-; echo $?)
+code=$(timeout $(( 30 * scale )) "$osplint" check "$dir/progs" 2>"$dir/stderr" >&-; echo $?)
 [[ $code -eq 2 ]] && grep -q "standard output is closed" "$dir/stderr" || { echo "FAIL: a closed stdout needs exit 2 and a message"; fail=1; }
 OUT=/dev/full LIMIT=30 run rules
 [[ $LAST_CODE -eq 2 ]] || { echo "FAIL: rules to /dev/full needs exit 2"; fail=1; }
-code=$( (ulimit -f 1 && timeout 30 "$osplint" check --format sarif "$dir/progs" "$dir/progs" "$dir/BINARY.MIN" > "$dir/out.sarif" 2>"$dir/stderr"); echo $?)
+code=$( (ulimit -f 1 && timeout $(( 30 * scale )) "$osplint" check --format sarif "$dir/progs" "$dir/progs" "$dir/BINARY.MIN" > "$dir/out.sarif" 2>"$dir/stderr"); echo $?)
 [[ $code -eq 2 ]] && grep -q "could not be written" "$dir/stderr" || { echo "FAIL: SARIF past the file size limit needs exit 2 and a message (got $code)"; fail=1; }
 
 # The baseline: written atomically, never after an input error, never through a planted link.
@@ -194,7 +197,7 @@ ln -s "$dir/victim" "$base.tmp"
 for i in $(seq 1 20); do  # a baseline longer than the 1 KiB limit below
   printf 'O3%03d\nCALL OZAGR PX=-70. PY=0 PR=5. PZ=-29. PI=6. PF=50 PS=600 M52\nM30\n' "$i" > "$dir/progs/C$i.MIN"
 done
-code=$( (ulimit -f 1 && timeout 30 "$osplint" check --write-baseline "$base" "$dir/progs" >/dev/null 2>"$dir/stderr"); echo $?)
+code=$( (ulimit -f 1 && timeout $(( 30 * scale )) "$osplint" check --write-baseline "$base" "$dir/progs" >/dev/null 2>"$dir/stderr"); echo $?)
 [[ $code -eq 2 ]] && grep -q "not written" "$dir/stderr" && cmp -s "$base" "$dir/base.orig" ||
   { echo "FAIL: a baseline write that fails must leave the old one (got $code)"; fail=1; }
 LIMIT=30 run check --write-baseline "$base" "$dir/progs"
@@ -212,7 +215,7 @@ printf '[machine\nunits = "mm"\n' > "$dir/cfg/bad/osplint.toml"
 LIMIT=30 run check "$dir/cfg"
 [[ $LAST_CODE -eq 2 && $LAST_ERR == *"bad/osplint.toml"* && $LAST_ERR == *"bad/deeper/C.MIN: not checked"* &&
    $LAST_ERR != *"good/A.MIN"* ]] || { echo "FAIL: a broken osplint.toml must stop only its own files"; fail=1; }
-grep -q "OSP104" <(timeout 30 "$osplint" check "$dir/cfg" 2>/dev/null) || { echo "FAIL: the other files were not checked"; fail=1; }
+grep -q "OSP104" <(timeout $(( 30 * scale )) "$osplint" check "$dir/cfg" 2>/dev/null) || { echo "FAIL: the other files were not checked"; fail=1; }
 LIMIT=30 run check --config "$dir/cfg" "$dir/cfg/good"
 [[ $LAST_CODE -eq 2 && $LAST_ERR == *"is a directory"* ]] || { echo "FAIL: --config DIR needs exit 2 and a message"; fail=1; }
 LIMIT=30 run config "$dir/nonexistent"
@@ -232,7 +235,7 @@ LIMIT=30 run config --config "$dir/c.toml"
 mkdir "$dir/many"
 for i in $(seq 1 40); do printf 'O%d\nG0 X1\nM30\n' "$i" > "$dir/many/P$i.MIN"; done
 if (ulimit -v 400000 && "$osplint" --version) >/dev/null 2>&1; then
-  out=$( (ulimit -v 400000 && timeout 60 "$osplint" check -j 1000 "$dir/many") 2>"$dir/stderr")
+  out=$( (ulimit -v 400000 && timeout $(( 60 * scale )) "$osplint" check -j 1000 "$dir/many") 2>"$dir/stderr")
   code=$?
   # Every file checked, or out of memory said plainly: never an abort.
   if [[ ($code -eq 0 && $out == *"in 40 files"*) || ($code -eq 2 && $(cat "$dir/stderr") == *"out of memory"*) ]]; then
