@@ -88,11 +88,14 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
     for (const auto& r : spec.relations) {
         if (is_order_relation(r, spec)) continue;
         if (r.plane && (!plane || macro::plane_number(*plane) != r.plane)) continue;
-        if (!r.when.empty()) {
-            if (r.when.rfind("given:", 0) != 0) continue;  // conditions this rule cannot evaluate
-            const ArgSpec* a = spec.arg(r.when.substr(6));
-            if (!a || !lookup(*a).value) continue;
-        }
+        // Only what the call's own words decide; a condition on the modal
+        // state is left to the motion rules.
+        const Tri applies = r.when.eval([&](const ConditionAtom& at) {
+            if (at.kind != ConditionAtom::Kind::Given) return Tri::Unknown;
+            const ArgSpec* a = spec.arg(at.arg);
+            return a && lookup(*a).value ? Tri::True : Tri::False;
+        });
+        if (applies != Tri::True) continue;
         auto lt = parse_catalog_expr(r.left);
         auto rt = parse_catalog_expr(r.right);
         if (!lt || !rt) continue;

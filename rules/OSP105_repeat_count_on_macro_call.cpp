@@ -18,7 +18,7 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
-        if (!spec || !spec->q_repeat_unsafe || !c->repeat) return;
+        if (!spec || !spec->has(Hazard::RepeatCountAbnormal) || !c->repeat) return;
         if (c->kind != CallKind::Call && c->kind != CallKind::Modin) return;
         auto& d = ctx.report(kMeta, c->repeat->range,
                              "Q repeats the call of " + spec->name + ", which does not support repeated calls: "

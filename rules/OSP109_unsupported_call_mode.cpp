@@ -41,7 +41,7 @@ public:
         MacroForm form = c->kind == CallKind::Call ? MacroForm::Call : MacroForm::Modin;
         if (!spec->has_form(form)) {
             std::string used(macro::call_kind_name_short(c->kind));
-            std::string consequence = spec->g91_forbidden
+            std::string consequence = spec->g91 == G91Mode::Unsupported
                                           ? "no alarm results, but the motion is wrong (positions are shifted)"
                                           : "the manual documents no such use, so the motion is not defined";
             auto& d = ctx.report(kMeta, c->name_range,
@@ -52,7 +52,7 @@ public:
                                std::nullopt});
             return;
         }
-        if (spec->g91_forbidden && v.before.distance.is(Distance::Incremental)) {
+        if (spec->g91 == G91Mode::Unsupported && v.before.distance.is(Distance::Incremental)) {
             auto& d = ctx.report(kMeta, c->name_range,
                                  spec->name + " cannot be used in G91 mode: its cutter path is not closed internally, "
                                               "so no alarm results but the slot is cut at shifted positions; "

@@ -18,7 +18,7 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
-        if (!spec || !spec->mm_only || !macro::is_invocation(*c)) return;
+        if (!spec || spec->units != MacroUnits::MmOnly || !macro::is_invocation(*c)) return;
         if (!v.after.units.is(Units::Inch)) return;
         auto& d = ctx.report(kMeta, macro::call_range(*c, v.block),
                              spec->name + " works in the mm unit system only, but inch units (G20) are in effect: "

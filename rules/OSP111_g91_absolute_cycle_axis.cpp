@@ -18,7 +18,7 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
-        if (!spec || !spec->cycle_args_absolute_g91 || spec->g91_forbidden) return;
+        if (!spec || spec->g91 != G91Mode::CycleAxisAbsolute) return;
         if (c->kind != CallKind::Call && c->kind != CallKind::Modin) return;
         if (!v.before.distance.is(Distance::Incremental)) return;
         std::string cycle_args, plane_args;

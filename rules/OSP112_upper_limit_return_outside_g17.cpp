@@ -16,8 +16,8 @@ constexpr RuleMeta kMeta{
 // The action step that performs the upper-limit return "in G17 mode".
 const ActionStep* g17_only_return(const MacroSpec& s) {
     for (const auto& st : s.action)
-        if (st.when.find("G17") != std::string::npos &&
-            (st.when.find("PM=52") != std::string::npos || st.when.find("M52") != std::string::npos))
+        if (st.when.required_plane() == 17 &&
+            (st.when.mentions(ConditionAtom::Kind::MCode, 52) || st.when.mentions_value("PM", 52)))
             return &st;
     return nullptr;
 }

@@ -33,7 +33,7 @@ public:
 
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
-        if (c && c->spec && c->spec->g60_ncyl_forbidden && !user_ &&
+        if (c && c->spec && c->spec->has(Hazard::G60NcylCollision) && !user_ &&
             (macro::is_invocation(*c) || c->kind == CallKind::ModinPositioning)) {
             user_ = c->spec;
             user_range_ = macro::call_range(*c, v.block);
@@ -42,7 +42,7 @@ public:
         if (!ncyl || !v.after.motion.is(60)) return;
         if (const ActiveModin* m = active_modin(v.before)) {
             const MacroSpec* spec = ctx.catalog().find(m->macro);
-            if (spec && spec->g60_ncyl_forbidden) {
+            if (spec && spec->has(Hazard::G60NcylCollision)) {
                 report(ctx, ncyl->keyword_range, *spec,
                        "MODIN " + spec->name + " is active (line " + std::to_string(m->line) + ")", std::nullopt);
                 return;

@@ -44,7 +44,7 @@ public:
 
     void check_block(RuleContext&, const BlockView& v) override {
         const Block& b = v.block;
-        if (const MacroCall* c = v.call; c && c->spec && c->spec->vc120_128_clobbered &&
+        if (const MacroCall* c = v.call; c && c->spec && c->spec->has(Hazard::OverwritesVc120To128) &&
                                          (c->kind == CallKind::Call || c->kind == CallKind::Modin ||
                                           c->kind == CallKind::GCode || c->kind == CallKind::MCode))
             calls_.push_back({c->spec, macro::call_range(*c, b), b.line});

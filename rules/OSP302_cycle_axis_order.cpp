@@ -143,11 +143,13 @@ public:
         for (size_t i = 0; i < spec->relations.size(); ++i) {
             const Relation& r = spec->relations[i];
             if (!is_order_relation(r, *spec)) continue;
-            if (!r.when.empty()) {
-                if (r.when.rfind("given:", 0) != 0) continue;  // conditions this rule cannot decide
-                const ArgSpec* a = spec->arg(r.when.substr(6));
-                if (!a || !macro::given(*c, *a)) continue;
-            }
+            // Only what the call's own words decide.
+            const Tri applies = r.when.eval([&](const ConditionAtom& at) {
+                if (at.kind != ConditionAtom::Kind::Given) return Tri::Unknown;
+                const ArgSpec* a = spec->arg(at.arg);
+                return a && macro::given(*c, *a) ? Tri::True : Tri::False;
+            });
+            if (applies != Tri::True) continue;
             Side l = evaluate_side(r.left, lookup), rt = evaluate_side(r.right, lookup);
             if (!l.known || !rt.known) continue;
             const bool uses_current = l.current || rt.current;

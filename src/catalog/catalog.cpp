@@ -104,6 +104,9 @@ std::string_view to_string(MacroForm v) { return name_in(kForm, v); }
 std::string_view to_string(M52Mode v) { return name_in(kM52, v); }
 std::string_view to_string(M53Mode v) { return name_in(kM53, v); }
 std::string_view to_string(RequiredScope v) { return name_in(kScope, v); }
+std::string_view to_string(MacroUnits v) { return name_in(kUnits, v); }
+std::string_view to_string(G91Mode v) { return name_in(kG91, v); }
+std::string_view to_string(Hazard v) { return name_in(kHazard, v); }
 
 std::optional<std::vector<ExprTerm>> parse_catalog_expr(std::string_view text) {
     std::vector<ExprTerm> terms;

@@ -21,6 +21,8 @@
 #include <string_view>
 #include <vector>
 
+#include "catalog/condition.h"
+
 namespace toml {
 inline namespace v3 {
 class table;
@@ -81,6 +83,29 @@ enum class M53Mode : uint8_t {
 };
 
 enum class SpecKind : uint8_t { Macro, FixedCycle };
+
+// The unit systems a macro can be used in (`units`).
+enum class MacroUnits : uint8_t {
+    Any,     // the manual states no restriction
+    MmOnly,  // only the mm unit system
+};
+
+// What a macro does in G91 mode (`g91`).
+enum class G91Mode : uint8_t {
+    FollowsG91,         // as a fixed cycle: R relative to I, Z relative to R (OG84L)
+    CycleAxisAbsolute,  // cycle-axis arguments from the workpiece origin even in G91;
+                        // the positioning plane follows G90/G91 (the subprogram macros)
+    Unsupported,        // not usable in G91: wrong motion, no alarm (OKYLX/OKYLY)
+};
+
+// What goes wrong with the macro beyond its arguments (`hazards`): facts of
+// the macro that the rules read, not switches of the rules.
+enum class Hazard : uint8_t {
+    G60NcylCollision,     // G60 modal with NCYL while it is in use: NCYL is ignored, collision
+    OverwritesVc120To128, // it writes the common variables VC120-VC128
+    RepeatCountAbnormal,  // a repeat count Q on the call line: abnormal from the 2nd call
+};
+inline constexpr std::size_t kHazardCount = 3;
 
 // Where a "required" argument has to be written.
 enum class RequiredScope : uint8_t {
@@ -144,7 +169,7 @@ struct AtLeastOne {
 struct Relation {
     std::string left, op, right;  // op: > >= < <= == !=
     int plane = 0;                // holds in this plane only (0 = any)
-    std::string when;             // extra condition, e.g. "given:PK"
+    Condition when;               // extra condition, e.g. given:PK
     std::string source;
     bool inferred = false;
     std::string note;
@@ -160,7 +185,7 @@ struct ActionStep {
     std::string feed;
     std::string target;
     std::string by;
-    std::string when;  // "M53", "given:PK", "G17 and (PM=52 or M52)" ...
+    Condition when;  // M53, given:PK, G17 and (PM=52 or M52) ...
     bool inferred = false;
     std::string source;
 };
@@ -190,14 +215,11 @@ struct MacroSpec {
     std::string source;  // "000:L552-648"
     std::vector<MacroForm> forms;
     bool args_documented = true;  // false: argument table unknown (accept any)
-    bool mm_only = false;
-    bool cycle_args_absolute_g91 = false;
+    MacroUnits units = MacroUnits::Any;
+    G91Mode g91 = G91Mode::FollowsG91;
     M52Mode m52 = M52Mode::Undocumented;
     M53Mode m53 = M53Mode::Undocumented;
-    bool g60_ncyl_forbidden = false;
-    bool vc120_128_clobbered = false;
-    bool q_repeat_unsafe = false;
-    bool g91_forbidden = false;
+    std::array<bool, kHazardCount> hazards{};  // indexed by Hazard
     bool tapping = false;
     RequiredScope required_scope = RequiredScope::EveryCall;
     std::vector<FormatLine> formats;
@@ -221,6 +243,7 @@ struct MacroSpec {
     // `gcode_form->address_map`, else by name).
     const ArgSpec* arg_for_address(std::string_view address) const;
     bool has_form(MacroForm form) const;
+    bool has(Hazard h) const { return hazards[static_cast<std::size_t>(h)]; }
     const Reading* reading(std::string_view id) const;
 };
 using CycleSpec = MacroSpec;
@@ -298,6 +321,9 @@ std::string_view to_string(MacroForm v);
 std::string_view to_string(M52Mode v);
 std::string_view to_string(M53Mode v);
 std::string_view to_string(RequiredScope v);
+std::string_view to_string(MacroUnits v);
+std::string_view to_string(G91Mode v);
+std::string_view to_string(Hazard v);
 
 // The value constraints of an argument in words ("one of 2, 3; positive"), or "" when there are none.
 std::string constraint_text(const ArgSpec& a);

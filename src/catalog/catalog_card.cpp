@@ -149,7 +149,7 @@ std::string step_suffix(const ActionStep& st) {
     if (!st.feed.empty()) s += " [" + st.feed + "]";
     if (!st.target.empty()) s += " -> " + st.target;
     if (!st.by.empty()) s += " (moves by " + st.by + ", direction not stated)";
-    if (!st.when.empty()) s += " (when " + st.when + ")";
+    if (!st.when.empty()) s += " (when " + st.when.text() + ")";
     if (st.inferred) s += " (target inferred)";
     return s;
 }
@@ -157,7 +157,7 @@ std::string step_suffix(const ActionStep& st) {
 std::string relation_text(const std::string& manual, const Relation& rel) {
     std::string s = rel.left + " " + rel.op + " " + rel.right;
     if (rel.plane) s += " in G" + std::to_string(rel.plane);
-    if (!rel.when.empty()) s += " when " + rel.when;
+    if (!rel.when.empty()) s += " when " + rel.when.text();
     if (rel.inferred) s += " (inferred)";
     s += where_suffix(manual, rel.source);
     if (!rel.note.empty()) s += ": " + rel.note;
@@ -375,17 +375,20 @@ std::vector<std::pair<std::string, std::string>> modes_of(const MacroSpec& spec)
         modes.emplace_back("Required arguments", "on the block that starts the cycle (modal within the cycle)");
         if (spec.tapping) modes.emplace_back("Tapping cycle", "yes");
     } else {
-        modes.emplace_back("mm only", spec.mm_only ? "yes" : "not stated");
-        modes.emplace_back("Cycle axis under G91", spec.cycle_args_absolute_g91
-                                                       ? "absolute: from the workpiece origin even in G91"
-                                                       : "follows G90/G91 as with fixed cycles");
+        modes.emplace_back("mm only", spec.units == MacroUnits::MmOnly ? "yes" : "not stated");
+        modes.emplace_back(spec.g91 == G91Mode::Unsupported ? "G91 mode" : "Cycle axis under G91",
+                           spec.g91 == G91Mode::Unsupported         ? "not usable (wrong motion, no alarm)"
+                           : spec.g91 == G91Mode::CycleAxisAbsolute ? "absolute: from the workpiece origin even in G91"
+                                                                    : "follows G90/G91 as with fixed cycles");
         modes.emplace_back("M52 on the call line", m52_text(spec.m52));
         modes.emplace_back("M53", m53_text(spec.m53));
-        modes.emplace_back("G60 with NCYL", spec.g60_ncyl_forbidden ? "forbidden (collision)" : "not restricted");
-        modes.emplace_back("VC120-VC128", spec.vc120_128_clobbered ? "overwritten by the macro" : "not used");
-        modes.emplace_back("Q repeat count",
-                           spec.q_repeat_unsafe ? "unsafe (abnormal from the 2nd call)" : "not restricted");
-        if (spec.g91_forbidden) modes.emplace_back("G91 mode", "not usable (wrong motion, no alarm)");
+        modes.emplace_back("G60 with NCYL",
+                           spec.has(Hazard::G60NcylCollision) ? "forbidden (collision)" : "not restricted");
+        modes.emplace_back("VC120-VC128",
+                           spec.has(Hazard::OverwritesVc120To128) ? "overwritten by the macro" : "not used");
+        modes.emplace_back("Q repeat count", spec.has(Hazard::RepeatCountAbnormal)
+                                                 ? "unsafe (abnormal from the 2nd call)"
+                                                 : "not restricted");
         if (spec.tapping) modes.emplace_back("Tapping cycle", "yes");
         if (spec.required_scope == RequiredScope::CycleStart)
             modes.emplace_back("Required arguments", "on the block that starts the cycle");

@@ -86,6 +86,21 @@ inline constexpr EnumName<RequiredScope> kScope[] = {
     {"cycle-start", RequiredScope::CycleStart},
 };
 
+inline constexpr EnumName<MacroUnits> kUnits[] = {
+    {"any", MacroUnits::Any},
+    {"mm", MacroUnits::MmOnly},
+};
+inline constexpr EnumName<G91Mode> kG91[] = {
+    {"follows-g91", G91Mode::FollowsG91},
+    {"cycle-axis-absolute", G91Mode::CycleAxisAbsolute},
+    {"unsupported", G91Mode::Unsupported},
+};
+inline constexpr EnumName<Hazard> kHazard[] = {
+    {"g60-ncyl-collision", Hazard::G60NcylCollision},
+    {"overwrites-vc120-vc128", Hazard::OverwritesVc120To128},
+    {"repeat-count-abnormal", Hazard::RepeatCountAbnormal},
+};
+
 // The name of `v` in the files.
 template <class E, std::size_t N>
 std::string_view name_in(const EnumName<E> (&table)[N], E v) {

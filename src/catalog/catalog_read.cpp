@@ -306,6 +306,34 @@ int read_plane(Reader& r) {
     r.fail(n, "plane", "expected \"G17\", \"G18\" or \"G19\"");
 }
 
+// The keys of catalog schema 1 that became properties of the macro: a
+// configuration written for it stops with the key to write instead.
+void reject_schema1_keys(Reader& r) {
+    static const std::pair<const char*, const char*> renamed[] = {
+        {"mm_only", "units = \"mm\" (or \"any\")"},
+        {"cycle_args_absolute_g91", "g91 = \"cycle-axis-absolute\" (or \"follows-g91\")"},
+        {"g91_forbidden", "g91 = \"unsupported\""},
+        {"g60_ncyl_forbidden", "\"g60-ncyl-collision\" in hazards = [...]"},
+        {"vc120_128_clobbered", "\"overwrites-vc120-vc128\" in hazards = [...]"},
+        {"q_repeat_unsafe", "\"repeat-count-abnormal\" in hazards = [...]"},
+    };
+    for (const auto& [old_key, now] : renamed)
+        if (const toml::node* n = r.get(old_key))
+            r.fail(n, old_key, std::string("this key of catalog schema 1 is now written ") + now +
+                                   " (see docs/catalog.md)");
+}
+
+// A `when` condition, parsed now so that a mistake names its line.
+Condition read_condition(Reader& r) {
+    const toml::node* n = r.get("when");
+    if (!n) return {};
+    if (!n->is_string()) r.fail(n, "when", "expected a string, found " + std::string(type_name(*n)));
+    std::string error;
+    auto c = Condition::parse(n->as_string()->get(), error);
+    if (!c) r.fail(n, "when", error);
+    return std::move(*c);
+}
+
 // The scalar fields of a macro table: names, call forms, mode behaviour.
 void apply_spec_fields(Reader& r, MacroSpec& spec) {
     if (auto v = r.str("family")) spec.family = *v;
@@ -317,14 +345,19 @@ void apply_spec_fields(Reader& r, MacroSpec& spec) {
         for (const auto& e : *a) spec.forms.push_back(r.enum_value(&e, "forms", kForm));
     }
     if (auto v = r.boolean("args_documented")) spec.args_documented = *v;
-    if (auto v = r.boolean("mm_only")) spec.mm_only = *v;
-    if (auto v = r.boolean("cycle_args_absolute_g91")) spec.cycle_args_absolute_g91 = *v;
+    reject_schema1_keys(r);
+    if (auto v = r.enumeration("units", kUnits)) spec.units = *v;
+    if (auto v = r.enumeration("g91", kG91)) spec.g91 = *v;
     if (auto v = r.enumeration("m52", kM52)) spec.m52 = *v;
     if (auto v = r.enumeration("m53", kM53)) spec.m53 = *v;
-    if (auto v = r.boolean("g60_ncyl_forbidden")) spec.g60_ncyl_forbidden = *v;
-    if (auto v = r.boolean("vc120_128_clobbered")) spec.vc120_128_clobbered = *v;
-    if (auto v = r.boolean("q_repeat_unsafe")) spec.q_repeat_unsafe = *v;
-    if (auto v = r.boolean("g91_forbidden")) spec.g91_forbidden = *v;
+    if (const toml::array* a = r.array("hazards")) {
+        spec.hazards = {};
+        for (const auto& e : *a) {
+            bool& h = spec.hazards[static_cast<std::size_t>(r.enum_value(&e, "hazards", kHazard))];
+            if (h) r.fail(&e, "hazards", "\"" + e.as_string()->get() + "\" is listed twice");
+            h = true;
+        }
+    }
     if (auto v = r.boolean("tapping")) spec.tapping = *v;
     if (auto v = r.enumeration("required_scope", kScope)) spec.required_scope = *v;
 }
@@ -426,7 +459,7 @@ void read_relations(Reader& r, MacroSpec& spec) {
         static const std::set<std::string> ops{">", ">=", "<", "<=", "==", "!="};
         if (!ops.count(rel.op)) e.fail(e.get("op"), "op", "expected one of > >= < <= == !=");
         rel.plane = read_plane(e);
-        if (auto v = e.str("when")) rel.when = *v;
+        rel.when = read_condition(e);
         if (auto v = e.str("source")) rel.source = *v;
         if (auto v = e.boolean("inferred")) rel.inferred = *v;
         if (auto v = e.str("note")) rel.note = *v;
@@ -445,7 +478,7 @@ void read_action(Reader& r, MacroSpec& spec) {
         if (auto v = e.str("feed")) step.feed = *v;
         if (auto v = e.str("target")) step.target = upper(*v);
         if (auto v = e.str("by")) step.by = upper(*v);
-        if (auto v = e.str("when")) step.when = *v;
+        step.when = read_condition(e);
         if (auto v = e.boolean("inferred")) step.inferred = *v;
         if (auto v = e.str("source")) step.source = *v;
         spec.action.push_back(std::move(step));
@@ -504,6 +537,14 @@ void validate_spec(const MacroSpec& spec, const std::string& file, uint32_t line
         check_expr("relations[" + std::to_string(i) + "].left", spec.relations[i].left);
         check_expr("relations[" + std::to_string(i) + "].right", spec.relations[i].right);
     }
+    auto check_condition = [&](const std::string& key, const Condition& c) {
+        for (const ConditionAtom* a : c.atoms())
+            if (!a->arg.empty() && !known(a->arg)) fail(key, "\"" + a->arg + "\" is not an argument of " + spec.name);
+    };
+    for (std::size_t i = 0; i < spec.action.size(); ++i)
+        check_condition("action[" + std::to_string(i) + "].when", spec.action[i].when);
+    for (std::size_t i = 0; i < spec.relations.size(); ++i)
+        check_condition("relations[" + std::to_string(i) + "].when", spec.relations[i].when);
     for (std::size_t i = 0; i < spec.at_least_one.size(); ++i)
         for (const auto& a : spec.at_least_one[i].args)
             if (!known(a)) fail("at_least_one[" + std::to_string(i) + "].args", a + " is not an argument of " + spec.name);
@@ -642,8 +683,10 @@ Catalog Catalog::from_toml_text(std::string_view text, std::string origin) {
     Catalog cat;
     Reader r(root, origin, "");
     if (const toml::node* n = r.get("schema")) {
-        if (!n->is_integer() || n->as_integer()->get() != 1)
-            r.fail(n, "schema", "this osplint reads catalog schema 1");
+        if (!n->is_integer() || n->as_integer()->get() != 2)
+            r.fail(n, "schema",
+                   "this osplint reads catalog schema 2 (schema 1 wrote the macro's units, G91 mode and hazards "
+                   "as separate booleans; see docs/catalog.md)");
     }
     if (const toml::table* pt = r.table("plane_table")) read_plane_tables(*pt, origin, cat.plane_tables_);
     if (const toml::table* ct = r.table("common")) read_common(*ct, origin, cat.common_);

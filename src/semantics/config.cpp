@@ -206,7 +206,7 @@ Config read_chain(std::string_view text, const std::string& origin, const RuleId
                           std::string(e.description()));
     }
     check_keys(origin, root, "",
-               {"extend", "exclude", "per-path", "machine", "rules", "macros", "macro", "analysis"});
+               {"extend", "exclude", "per-path", "machine", "rules", "macros", "codes", "macro", "analysis"});
     Config c;
     if (const auto* n = root.get("extend")) {
         const auto written = expect_string(origin, *n, "extend");
@@ -237,24 +237,23 @@ Config read_chain(std::string_view text, const std::string& origin, const RuleId
         for (auto& p : read_patterns(origin, *n, "exclude")) c.exclude.push_back(std::move(p));
     if (const auto* n = root.get("machine")) read_machine(c, origin, expect_table(origin, *n, "machine"));
     if (const auto* n = root.get("macro")) c.catalog.merge(expect_table(origin, *n, "macro"), origin);
-    if (const auto* n = root.get("macros")) {
-        const auto& t = expect_table(origin, *n, "macros");
-        check_keys(origin, t, "macros.", {"gcode"});
-        if (const auto* g = t.get("gcode")) {
-            for (const auto& [k, v] : expect_table(origin, *g, "macros.gcode")) {
-                std::string code(k.str());
-                std::string key = "macros.gcode." + code;
-                bool ok = code.size() >= 2 && (code[0] == 'G' || code[0] == 'M');
-                for (size_t i = 1; ok && i < code.size(); ++i) ok = std::isdigit(static_cast<unsigned char>(code[i]));
-                if (!ok) fail(origin, v, key, "expected a G or M code such as G114 or M204");
-                if (auto meaning = Catalog::builtin_meaning(code); !meaning.empty())
-                    fail(origin, v, key, code + " is " + std::string(meaning) + " of the control, not a macro code");
-                auto macro = expect_string(origin, v, key);
-                if (!c.catalog.find(macro))
-                    fail(origin, v, key, "macro \"" + macro + "\" is not in the catalog (define it under [macro." +
-                                             macro + "])");
-                c.catalog.register_code(code, macro);
-            }
+    if (const auto* n = root.get("macros"))
+        fail(origin, *n, "macros",
+             "[macros.gcode] is now [codes]: write each registration there, e.g. G113 = \"OLAPX\"");
+    if (const auto* n = root.get("codes")) {
+        for (const auto& [k, v] : expect_table(origin, *n, "codes")) {
+            std::string code(k.str());
+            std::string key = "codes." + code;
+            bool ok = code.size() >= 2 && (code[0] == 'G' || code[0] == 'M');
+            for (size_t i = 1; ok && i < code.size(); ++i) ok = std::isdigit(static_cast<unsigned char>(code[i]));
+            if (!ok) fail(origin, v, key, "expected a G or M code such as G114 or M204");
+            if (auto meaning = Catalog::builtin_meaning(code); !meaning.empty())
+                fail(origin, v, key, code + " is " + std::string(meaning) + " of the control, not a macro code");
+            auto macro = expect_string(origin, v, key);
+            if (!macro.empty() && !c.catalog.find(macro))
+                fail(origin, v, key, "macro \"" + macro + "\" is not in the catalog (define it under [macro." +
+                                         macro + "])");
+            c.catalog.register_code(code, macro);
         }
     }
     if (const auto* n = root.get("rules")) read_rules(c, origin, expect_table(origin, *n, "rules"), rules);
@@ -398,11 +397,9 @@ std::string render_config(const Config& c, const RuleIdentities& rule_ids) {
     }
     machine.insert("travel", std::move(travel));
     root.insert("machine", std::move(machine));
-    toml::table gcode;
-    for (const auto& [code, macro] : c.catalog.registrations()) gcode.insert(code, macro);
-    toml::table macros;
-    macros.insert("gcode", std::move(gcode));
-    root.insert("macros", std::move(macros));
+    toml::table codes;
+    for (const auto& [code, macro] : c.catalog.registrations()) codes.insert(code, macro);
+    root.insert("codes", std::move(codes));
     toml::table rules;
     for (const auto& m : rule_ids) {
         auto sev = c.severity_of(m.id, m.severity, m.enabled_by_default);

@@ -54,7 +54,7 @@ struct Config {
     // [rules] ID = "error" | "warning" | "info" | "off"
     std::map<std::string, std::optional<Severity>> rule_severity;
     bool explain_unknown = false;        // [analysis] explain-unknown: enable OSP303-style notes
-    Catalog catalog = Catalog::builtin();  // shipped macros + [macro.NAME] + [macros.gcode]
+    Catalog catalog = Catalog::builtin();  // shipped macros + [macro.NAME] + [codes]
     std::vector<PathPattern> exclude;    // `exclude`: what a directory walk skips (inherited ones first)
     std::vector<PerPathRules> per_path;  // `[[per-path]]`, inherited ones first
 

@@ -1,5 +1,5 @@
-// The catalog's expressions and `when` conditions, evaluated against the
-// arguments of a call (see motion_internal.h): the arithmetic each point of an
+// The catalog's expressions, evaluated against the arguments of a call (see
+// motion_internal.h): the arithmetic each point of an
 // envelope shows ("PZ-PI-PL = -20-12-5 = -37") and why a value is not known.
 #include <cctype>
 
@@ -17,89 +17,9 @@ bool contains_ci(std::string_view hay, std::string_view needle) {
     return upper(hay).find(upper(needle)) != std::string::npos;
 }
 
-// --- Tri-state conditions of the catalog's `when` -----------------------------
-
-namespace {
-
-Tri tri_not(Tri a) { return a == Tri::Unknown ? a : (a == Tri::True ? Tri::False : Tri::True); }
-Tri tri_and(Tri a, Tri b) {
-    if (a == Tri::False || b == Tri::False) return Tri::False;
-    if (a == Tri::True && b == Tri::True) return Tri::True;
-    return Tri::Unknown;
-}
-Tri tri_or(Tri a, Tri b) {
-    if (a == Tri::True || b == Tri::True) return Tri::True;
-    if (a == Tri::False && b == Tri::False) return Tri::False;
-    return Tri::Unknown;
-}
-
-// `G17 and (PM=52 or M52)`, `given:PK`, `M53`: atoms joined by and/or, with
-// parentheses. Anything it cannot read is Unknown.
-class Condition {
-public:
-    Condition(std::string_view text, const std::function<Tri(std::string_view)>& atom) : s_(text), atom_(atom) {}
-    Tri eval() {
-        Tri r = parse_or();
-        skip();
-        return i_ == s_.size() ? r : Tri::Unknown;
-    }
-
-private:
-    void skip() {
-        while (i_ < s_.size() && s_[i_] == ' ') ++i_;
-    }
-    std::string_view token() {
-        skip();
-        if (i_ >= s_.size()) return {};
-        if (s_[i_] == '(' || s_[i_] == ')') return s_.substr(i_, 1);
-        size_t j = i_;
-        while (j < s_.size() && s_[j] != ' ' && s_[j] != '(' && s_[j] != ')') ++j;
-        return s_.substr(i_, j - i_);
-    }
-    Tri parse_or() {
-        Tri r = parse_and();
-        while (upper(token()) == "OR") {
-            i_ += 2;
-            r = tri_or(r, parse_and());
-        }
-        return r;
-    }
-    Tri parse_and() {
-        Tri r = parse_primary();
-        while (upper(token()) == "AND") {
-            i_ += 3;
-            r = tri_and(r, parse_primary());
-        }
-        return r;
-    }
-    Tri parse_primary() {
-        std::string_view t = token();
-        if (t.empty()) return Tri::Unknown;
-        if (t == "(") {
-            ++i_;
-            Tri r = parse_or();
-            if (token() == ")") ++i_;
-            return r;
-        }
-        if (upper(t) == "NOT") {
-            i_ += 3;
-            return tri_not(parse_primary());
-        }
-        i_ += t.size();
-        return atom_(t);
-    }
-    std::string_view s_;
-    size_t i_ = 0;
-    const std::function<Tri(std::string_view)>& atom_;
-};
-
-}  // namespace
+// --- Tri-state values ------------------------------------------------------------
 
 Tri tri_of(const Val<bool>& v) { return v.known ? (v.value ? Tri::True : Tri::False) : Tri::Unknown; }
-
-Tri eval_condition(std::string_view text, const std::function<Tri(std::string_view)>& atom) {
-    return Condition(text, atom).eval();
-}
 
 // --- Argument values ----------------------------------------------------------
 

@@ -3,8 +3,8 @@
 //
 //   motion.cpp         the envelope types, finishing an envelope, which blocks
 //                      run a macro or a hole (cycle_envelope)
-//   motion_eval.cpp    the catalog's expressions and `when` conditions,
-//                      evaluated against the arguments of a call
+//   motion_eval.cpp    the catalog's expressions, evaluated against the
+//                      arguments of a call (`when` conditions: catalog/condition.h)
 //   motion_macro.cpp   the envelope of a macro call (the catalog's action steps)
 //   motion_hole.cpp    the envelope of a fixed-cycle hole (I -> R -> Z -> return)
 //   motion_travel.cpp  points outside [machine.travel]
@@ -42,13 +42,9 @@ bool block_has_axis(const Block& b, char axis);
 std::optional<double> block_axis_target(const Block& b, char axis, const ModalState& before);
 std::optional<double> travel_max(const Config& c, char axis);
 
-// --- Tri-state conditions of the catalog's `when` -------------------------------
+// --- Tri-state values (Tri: catalog/condition.h) ---------------------------------
 
-enum class Tri { False, True, Unknown };
 Tri tri_of(const Val<bool>& v);
-// `G17 and (PM=52 or M52)`, `given:PK`, `M53`: atoms joined by and/or/not,
-// with parentheses; `atom` decides each atom. Anything it cannot read is Unknown.
-Tri eval_condition(std::string_view text, const std::function<Tri(std::string_view)>& atom);
 
 // --- Argument values and catalog expressions ------------------------------------
 

@@ -68,27 +68,27 @@ struct MacroRun {
         return after.return_level.value == code ? Tri::True : Tri::False;
     }
 
-    // An atom of a step's `when`: G17/G18/G19, G90/G91, M52/M53/M54,
-    // `given:NAME`, `NAME=value`.
-    Tri atom(std::string_view t) const {
-        std::string a = upper(t);
-        if (a == "G17" || a == "G18" || a == "G19") return (a == plane_name(plane)) ? Tri::True : Tri::False;
-        if (a == "G90") return tri_of(before.distance.known ? Val<bool>::of(before.distance.value == Distance::Absolute) : Val<bool>{});
-        if (a == "G91") return tri_of(before.distance.known ? Val<bool>::of(before.distance.value == Distance::Incremental) : Val<bool>{});
-        if (a == "M52") return m_active(52);
-        if (a == "M53") return m_active(53);
-        if (a == "M54") return m_active(54);
-        if (a.rfind("GIVEN:", 0) == 0) {
-            std::string n = a.substr(6);
-            return given_arg(call, spec.arg(n), n) ? Tri::True : Tri::False;
-        }
-        if (auto eq = a.find('='); eq != std::string::npos) {
-            std::string n = a.substr(0, eq);
-            double want = std::atof(a.c_str() + eq + 1);
-            ArgValue v = arg(n);
-            if (v.state == ArgValue::State::Absent) return Tri::False;
-            if (v.state == ArgValue::State::Unknown) return Tri::Unknown;
-            return v.value == want ? Tri::True : Tri::False;
+    // An atom of a step's `when` (catalog/condition.h).
+    Tri atom(const ConditionAtom& a) const {
+        using K = ConditionAtom::Kind;
+        switch (a.kind) {
+            case K::Plane: {
+                const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+                return pn == a.number ? Tri::True : Tri::False;
+            }
+            case K::Distance: {
+                if (!before.distance.known) return Tri::Unknown;
+                const Distance want = a.number == 90 ? Distance::Absolute : Distance::Incremental;
+                return before.distance.value == want ? Tri::True : Tri::False;
+            }
+            case K::MCode: return m_active(a.number);
+            case K::Given: return given_arg(call, spec.arg(a.arg), a.arg) ? Tri::True : Tri::False;
+            case K::ArgEquals: {
+                ArgValue v = arg(a.arg);
+                if (v.state == ArgValue::State::Absent) return Tri::False;
+                if (v.state == ArgValue::State::Unknown) return Tri::Unknown;
+                return v.value == a.value ? Tri::True : Tri::False;
+            }
         }
         return Tri::Unknown;
     }
@@ -114,7 +114,7 @@ bool target_step(const MacroRun& run, const Lookup& lookup, const ActionStep& st
     p.worked = e.worked;
     if (p.possible) {
         if (e.value.known) p.reach = Interval{e.value.value, e.value.value};
-        p.worked += " (runs only if " + step.when + ", not known here)";
+        p.worked += " (runs only if " + step.when.text() + ", not known here)";
         walk.end_known = false;
     } else {
         p.value = e.value;
@@ -166,7 +166,7 @@ void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, Act
         p.worked = "the + travel limit ([machine.travel] not configured)";
     }
     if (p.possible) {
-        p.worked += " (runs only if " + step.when + ", not known here)";
+        p.worked += " (runs only if " + step.when.text() + ", not known here)";
         walk.end_known = false;
     } else {
         walk.end_known = true;
@@ -178,10 +178,10 @@ void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, Act
 // The action steps in order: a point for every step that moves the cycle
 // axis and whose condition is not known to be false.
 void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
-    const std::function<Tri(std::string_view)> atom = [&](std::string_view t) { return run.atom(t); };
+    const std::function<Tri(const ConditionAtom&)> atom = [&](const ConditionAtom& a) { return run.atom(a); };
     ActionWalk walk;
     for (const auto& step : run.spec.action) {
-        Tri cond = step.when.empty() ? Tri::True : eval_condition(step.when, atom);
+        Tri cond = step.when.eval(atom);
         if (cond == Tri::False) continue;
         MotionPoint p;
         p.step = step.step;
@@ -390,9 +390,9 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
     const MacroRun run{b, before, after, call, spec, config, plane, env.axis};
     const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
     walk_action(run, lookup, env);
-    if (spec.g91_forbidden && env.incremental)
+    if (spec.g91 == G91Mode::Unsupported && env.incremental)
         env.notes.push_back(spec.name + " does not work under G91 (its motion is shifted); the envelope is the G90 reading");
-    if (before.units.is(Units::Inch) && spec.mm_only)
+    if (before.units.is(Units::Inch) && spec.units == MacroUnits::MmOnly)
         env.notes.push_back(spec.name + " works in mm only; the values are taken as written");
 
     add_plane_spans(env, spec, lookup, plane, plane_centre(run, env));

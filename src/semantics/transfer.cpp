@@ -555,7 +555,7 @@ void run_program(const MacroCall* call, const MacroSpec* spec, const ModalState&
     if (!spec) {
         // An unknown subprogram may change any common variable.
         erase_all_common(s);
-    } else if (spec->vc120_128_clobbered) {
+    } else if (spec->has(Hazard::OverwritesVc120To128)) {
         erase_reserved_common(s);
     }
 }

@@ -122,9 +122,10 @@ omitted = "required"
 role = "pitch"
 ''',
     "registrations": '''
-[macros.gcode]
+[codes]
 G113 = "OLAPX"
 M205 = "OC84L"
+M204 = ""
 [macro.OG84L]
 codes = ["g0115"]
 ''',
@@ -136,14 +137,11 @@ manual = "Shop manual"
 source = "p. 4"
 forms = ["CALL", "MODIN", "GCODE"]
 args_documented = true
-mm_only = false
-cycle_args_absolute_g91 = true
+units = "any"
+g91 = "cycle-axis-absolute"
 m52 = "fixed-cycle"
 m53 = "undocumented"
-g60_ncyl_forbidden = true
-vc120_128_clobbered = false
-q_repeat_unsafe = true
-g91_forbidden = false
+hazards = ["g60-ncyl-collision", "repeat-count-abnormal"]
 tapping = false
 required_scope = "cycle-start"
 format = [ { form = "CALL", text = "CALL OSHOP PZ=z PR=r (PK=k)", source = "p. 4" } ]
@@ -154,7 +152,7 @@ plane_table = "back-counterboring"
 common = "back-counterboring"
 at_least_one = [ { plane = "g17", args = ["PZ", "PK"], source = "p. 4", inferred = true } ]
 relations = [ { left = "PR", op = ">=", right = "PZ+PK+1", plane = "G18", when = "given:PK", inferred = true, source = "p. 4", note = "n" } ]
-action = [ { step = "1", text = "To R", feed = "rapid", target = "PR", when = "M53 or G90", inferred = false, source = "p. 6" },
+action = [ { step = "1", text = "To R", feed = "rapid", target = "PR", when = "(M53 or G90) and not given:PK and PZ=-5", inferred = false, source = "p. 6" },
            { step = "2", by = "PK" } ]
 notes = [ { text = "Careful", source = "p. 7" } ]
 readings = [ { id = "r1", issue = "i", reading = "r", open = true, override = "o" } ]
@@ -194,10 +192,10 @@ bad = [
     ("an unknown key in per-path", "[[per-path]]\npaths = [\"a\"]\nrule = { OSP1 = \"off\" }\n", "per-path.rule"),
     ("per-path with severity \"fatal\"", "[[per-path]]\npaths = [\"a\"]\nrules = { OSP1 = \"fatal\" }\n", "per-path.rules.OSP1"),
     ("explain-unknown = \"yes\"", "[analysis]\nexplain-unknown = \"yes\"\n", "analysis.explain-unknown"),
-    ("a control's own G code registered", "[macros.gcode]\nG81 = \"OLAPX\"\n", "macros.gcode.G81"),
-    ("a G01 registered", "[macros.gcode]\nG01 = \"OLAPX\"\n", "macros.gcode.G01"),
-    ("a code in lower case registered", "[macros.gcode]\ng115 = \"OLAPX\"\n", "macros.gcode.g115"),
-    ("an unknown key in [macros]", "[macros.mcode]\nM205 = \"OC84L\"\n", "macros.mcode"),
+    ("a control's own G code registered", "[codes]\nG81 = \"OLAPX\"\n", "codes.G81"),
+    ("a G01 registered", "[codes]\nG01 = \"OLAPX\"\n", "codes.G01"),
+    ("a code in lower case registered", "[codes]\ng115 = \"OLAPX\"\n", "codes.g115"),
+    ("the schema-1 table [macros.gcode]", "[macros.gcode]\nG113 = \"OLAPX\"\n", "macros"),
     ("an unknown argument key in a shop macro", NEW + "PZ = { omitted = \"required\", role = \"cycle\", omited = \"none\" }\n", "macro.OSHOP.arg.PZ.omited"),
     ("omitted = \"maybe\"", NEW + "PZ = { omitted = \"maybe\", role = \"cycle\" }\n", "macro.OSHOP.arg.PZ.omitted"),
     ("role \"angle\"", NEW + "PZ = { omitted = \"none\", role = \"angle\" }\n", "macro.OSHOP.arg.PZ.role"),
@@ -211,7 +209,12 @@ bad = [
     ("an argument name with a dash", NEW + "P-Z = { omitted = \"none\", role = \"cycle\" }\n", "macro.OSHOP.arg.P-Z"),
     ("a macro not named O...", "[macro.SHOP]\nforms = [\"CALL\"]\n", "macro.SHOP"),
     ("an unknown macro key", "[macro.OSHOP]\nforms = [\"CALL\"]\nmm = true\n", "macro.OSHOP.mm"),
-    ("mm_only as a string", "[macro.OSHOP]\nforms = [\"CALL\"]\nmm_only = \"yes\"\n", "macro.OSHOP.mm_only"),
+    ("units \"inch\"", "[macro.OSHOP]\nforms = [\"CALL\"]\nunits = \"inch\"\n", "macro.OSHOP.units"),
+    ("g91 \"absolute\"", "[macro.OSHOP]\nforms = [\"CALL\"]\ng91 = \"absolute\"\n", "macro.OSHOP.g91"),
+    ("an unknown hazard", "[macro.OSHOP]\nforms = [\"CALL\"]\nhazards = [\"g60\"]\n", "macro.OSHOP.hazards"),
+    ("a hazard twice", "[macro.OSHOP]\nforms = [\"CALL\"]\nhazards = [\"repeat-count-abnormal\", \"repeat-count-abnormal\"]\n", "macro.OSHOP.hazards"),
+    ("the schema-1 key mm_only", "[macro.OSHOP]\nforms = [\"CALL\"]\nmm_only = true\n", "macro.OSHOP.mm_only"),
+    ("the schema-1 key g60_ncyl_forbidden", "[macro.OZAGR]\ng60_ncyl_forbidden = false\n", "macro.OZAGR.g60_ncyl_forbidden"),
     ("form \"CALLS\"", "[macro.OSHOP]\nforms = [\"CALLS\"]\n", "macro.OSHOP.forms"),
     ("m53 \"return\"", "[macro.OSHOP]\nforms = [\"CALL\"]\nm53 = \"return\"\n", "macro.OSHOP.m53"),
     ("required_scope \"once\"", "[macro.OSHOP]\nforms = [\"CALL\"]\nrequired_scope = \"once\"\n", "macro.OSHOP.required_scope"),
@@ -242,7 +245,7 @@ catalog_bad = [
     ("omitted = \"default\" without default", "[cycle.G81.arg]\nZ = { omitted = \"default\", role = \"cycle\" }\n"),
     ("replace on a fixed cycle", "[cycle.G81]\nreplace = true\n"),
     ("a fixed cycle named by an M code", "[cycle.M81]\ntitle = \"t\"\n"),
-    ("schema 2", "schema = 2\n"),
+    ("schema 1", "schema = 1\n"),
     ("an unknown key in a plane table", "[plane_table.x]\nrows = []\n"),
     ("an unknown key in common rules", "[common.x]\nnote = \"n\"\n"),
 ]

@@ -220,7 +220,7 @@ LIMIT=30 run check --config "$dir/cfg" "$dir/cfg/good"
 [[ $LAST_CODE -eq 2 && $LAST_ERR == *"is a directory"* ]] || { echo "FAIL: --config DIR needs exit 2 and a message"; fail=1; }
 LIMIT=30 run config "$dir/nonexistent"
 [[ $LAST_CODE -eq 2 && $LAST_ERR == *"no such directory"* ]] || { echo "FAIL: config /nonexistent needs exit 2"; fail=1; }
-for t in '[macros.gcode]\nG0 = "OZAGR"' '[macros.gcode]\nM30 = "OZAGR"' '[machine.travel]\nz = [-inf, inf]' \
+for t in '[codes]\nG0 = "OZAGR"' '[codes]\nM30 = "OZAGR"' '[machine.travel]\nz = [-inf, inf]' \
          '[macro.OZAGR.arg.PM]\nallowed = [nan]'; do
   printf "$t\n" > "$dir/c.toml"
   LIMIT=30 run config --config "$dir/c.toml"

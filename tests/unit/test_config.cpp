@@ -34,7 +34,7 @@ distance = "G91"
 [machine.travel]
 z = [-300.0, 150]
 x = [-500, 500]
-[macros.gcode]
+[codes]
 G115 = "OG84L"
 [rules]
 OSP202 = "off"
@@ -112,27 +112,39 @@ TEST_CASE("configuration mistakes name the file, line and key") {
         CHECK(e.key() == "rules.OSP104");
     }
     SUBCASE("registration of an unknown macro") {
-        auto e = error_of("[macros.gcode]\nG114 = \"OXXXX\"\n");
-        CHECK(e.key() == "macros.gcode.G114");
+        auto e = error_of("[codes]\nG114 = \"OXXXX\"\n");
+        CHECK(e.key() == "codes.G114");
         CHECK(e.line() == 2);
     }
     SUBCASE("registration of something that is not a G or M code") {
-        auto e = error_of("[macros.gcode]\nX114 = \"OG84L\"\n");
-        CHECK(e.key() == "macros.gcode.X114");
+        auto e = error_of("[codes]\nX114 = \"OG84L\"\n");
+        CHECK(e.key() == "codes.X114");
+    }
+    SUBCASE("an empty macro name removes a registration") {
+        Config c = parse_config("[codes]\nG114 = \"\"\nG113 = \"OG84L\"\n", "osplint.toml");
+        CHECK(c.catalog.find_by_code("G114") == nullptr);
+        REQUIRE(c.catalog.find_by_code("G113") != nullptr);
+        CHECK(c.catalog.find_by_code("G113")->name == "OG84L");
+    }
+    SUBCASE("the [macros.gcode] table of catalog schema 1 names its new place") {
+        auto e = error_of("[macros.gcode]\nG113 = \"OLAPX\"\n");
+        CHECK(e.key() == "macros");
+        CHECK(e.line() == 1);
+        CHECK(std::string(e.what()).find("[codes]") != std::string::npos);
     }
 }
 
 TEST_CASE("codes of the control, infinite and undefined numbers, and huge keys are configuration mistakes") {
     SUBCASE("a motion, end or other built-in code registered as a macro code") {
         for (const char* code : {"G0", "G01", "G2", "G80", "G83", "G90", "M30", "M2", "M06", "M53"}) {
-            auto e = error_of(std::string("[macros.gcode]\n") + code + " = \"OZAGR\"\n");
-            CHECK(e.key() == std::string("macros.gcode.") + code);
+            auto e = error_of(std::string("[codes]\n") + code + " = \"OZAGR\"\n");
+            CHECK(e.key() == std::string("codes.") + code);
             CHECK(std::string(e.what()).find("of the control, not a macro code") != std::string::npos);
         }
         auto e = error_of("[macro.OZAGR]\ncodes = [\"M30\"]\n");
         CHECK(e.key() == "macro.OZAGR.codes");
         CHECK(std::string(e.what()).find("M30 is the program end of the control") != std::string::npos);
-        CHECK(parse_config("[macros.gcode]\nG115 = \"OZAGR\"\n", "x").catalog.find_by_code("G115") != nullptr);
+        CHECK(parse_config("[codes]\nG115 = \"OZAGR\"\n", "x").catalog.find_by_code("G115") != nullptr);
     }
     SUBCASE("travel limits that are not finite") {
         for (const char* t : {"[-inf, inf]", "[nan, 1]", "[0, +inf]"}) {

@@ -457,7 +457,7 @@ TEST_CASE("plain moves: a G0..G3 registered as a macro turns the shortcut off") 
     Config config;
     CHECK(plain_moves_possible(config.catalog));
     // A configuration may not (G1 is the control's own motion code), the library's catalog can.
-    CHECK_THROWS_AS(parse_config("[macros.gcode]\nG1 = \"OZAGR\"\n", "osplint.toml"), ConfigError);
+    CHECK_THROWS_AS(parse_config("[codes]\nG1 = \"OZAGR\"\n", "osplint.toml"), ConfigError);
     Config shop;
     shop.catalog.register_code("G1", "OZAGR");
     CHECK_FALSE(plain_moves_possible(shop.catalog));
