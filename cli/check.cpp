@@ -97,11 +97,12 @@ void add_check_options(CLI::App& cmd, CheckOptions& o) {
 
 namespace {
 
-// --select / --ignore on top of the configuration's [rules]. OSP001 always
-// stays on: a file that does not parse is never passed over silently.
+// --select / --ignore on top of the configuration's [rules]. A rule that
+// prefixes do not reach (OSP001) stays as it is: a file that does not parse
+// is never passed over silently.
 void apply_selection(Config& c, const CheckOptions& o) {
     for (const auto& m : all_rules()) {
-        if (m.id == kSyntaxErrorRule) continue;
+        if (!m.selected_by_prefix) continue;
         bool selected = o.select.empty();
         for (const auto& p : o.select)
             if (rule_matches(m.id, p)) selected = true;

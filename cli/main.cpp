@@ -106,7 +106,10 @@ int cmd_rules(const std::string& format) {
                            {"fix", fix},
                            {"suppressible", m.suppressible},
                            {"status", status_name(m.status)},
-                           {"since", m.since}});
+                           {"since", m.since},
+                           {"blocks", m.blocks == RuleBlocks::All ? "all" : "statements"},
+                           {"analysis_switch", m.analysis_switch},
+                           {"selected_by_prefix", m.selected_by_prefix}});
         }
         std::cout << out.dump(2) << "\n";
         return 0;

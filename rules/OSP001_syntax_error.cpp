@@ -11,6 +11,7 @@ constexpr RuleMeta kMeta{
     .summary = "The block does not parse as OSP part-program syntax",
     .category = RuleCategory::Alarm,
     .suppressible = false,
+    .selected_by_prefix = false,
 };
 
 class SyntaxErrorRule final : public RuleBase<SyntaxErrorRule> {

@@ -80,6 +80,10 @@ struct RuleMeta {
     // An [analysis] switch of osplint.toml that turns the rule on (at its
     // default severity) unless [rules] says otherwise: "explain-unknown".
     std::string_view analysis_switch;
+    // Whether an ID prefix ("OSP0" in [rules]), `--select` and `--ignore`
+    // reach it. false: only its own ID or name in [rules] turns it off (a
+    // file that does not parse is never passed over by a broad selection).
+    bool selected_by_prefix = true;
 };
 
 // A rule ID that names no rule any more: IDs are never reused, and a

@@ -46,7 +46,8 @@ std::string rule_doc_header(const RuleMeta& m) {
         h += "\nFix available (unsafe: it changes what the machine does; `--fix --unsafe-fixes` applies it, editors "
              "offer it).";
     if (!m.suppressible) h += "\nCannot be suppressed by a directive.";
-    if (m.id == kSyntaxErrorRule) h += " `--ignore` and ID prefixes leave it on; `[rules] " + id + " = \"off\"` turns it off.";
+    if (!m.selected_by_prefix)
+        h += " `--ignore` and ID prefixes leave it on; `[rules] " + id + " = \"off\"` turns it off.";
     return h;
 }
 
@@ -58,7 +59,7 @@ const std::vector<RetiredRule>& RuleRegistry::retired() const {
 RuleIdentities RuleRegistry::identities() const {
     RuleIdentities v;
     for (const auto& m : all())
-        v.push_back({m.id, m.name, m.severity, m.enabled_by_default, m.id != kSyntaxErrorRule, false, {},
+        v.push_back({m.id, m.name, m.severity, m.enabled_by_default, m.selected_by_prefix, false, {},
                      m.analysis_switch});
     for (const auto& r : retired()) v.push_back({r.id, r.name, Severity::Warning, false, false, true, r.replaced_by, {}});
     return v;

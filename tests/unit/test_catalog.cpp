@@ -337,14 +337,15 @@ TEST_CASE("format lines agree with the per-argument format column") {
             if (f.form == MacroForm::Call) CHECK(f.text.rfind("CALL " + m.name + " ", 0) == 0);
             if (f.form == MacroForm::Modin) CHECK(f.text.rfind("MODIN " + m.name + " ", 0) == 0);
             auto printed = scan_format(f.text);
-            for (const auto& [name, status] : printed) {
+            for (const auto& entry : printed) {
+                const std::string& name = entry.first;
                 CAPTURE(name);
                 const ArgSpec* a = m.arg(name);
                 if (!a) {
                     CHECK(m.reading("okylx-format-line") != nullptr);  // only OKYLX/OKYLY print foreign names
                     continue;
                 }
-                CHECK(a->format_status(f.form) == status);
+                CHECK(a->format_status(f.form) == entry.second);
             }
             for (const auto& a : m.args)
                 if (!printed.count(a.name) && f.form != MacroForm::GCode)
@@ -556,7 +557,9 @@ TEST_CASE("bad configuration entries name the file, line and key") {
             {"vc120_128_clobbered = true", "\"overwrites-vc120-vc128\" in hazards"},
             {"q_repeat_unsafe = true", "\"repeat-count-abnormal\" in hazards"},
         };
-        for (const auto& [line, now] : cases) {
+        for (const auto& c : cases) {
+            const char* line = c.first;
+            const char* now = c.second;
             CAPTURE(line);
             auto e = expect_config_error([&] {
                 cat.merge(parse_config(std::string("[OZAGR]\ntitle = \"t\"\n") + line + "\n"), "osplint.toml");

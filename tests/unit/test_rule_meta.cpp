@@ -42,6 +42,15 @@ TEST_CASE("rule metadata: every rule has a category, a version, and sees plain m
     CHECK_FALSE(builtin_rules().find(kSyntaxErrorRule)->suppressible);
     CHECK_FALSE(builtin_rules().find("OSP901")->suppressible);
     CHECK(builtin_rules().find("OSP104")->suppressible);
+    // The same rule is out of reach of ID prefixes, --select and --ignore, by
+    // its metadata: a prefix turns every other rule of its range off, not it.
+    CHECK_FALSE(builtin_rules().find(kSyntaxErrorRule)->selected_by_prefix);
+    const Config off = read_config_text("[rules]\nOSP0 = \"off\"\n", "osplint.toml", builtin_rules().identities());
+    for (const auto& meta : builtin_rules().all()) {
+        if (meta.id.substr(0, 4) != "OSP0") continue;
+        CAPTURE(meta.id);
+        CHECK(off.rule_severity.count(std::string(meta.id)) == (meta.selected_by_prefix ? 1u : 0u));
+    }
     // A rule is handed plain moves when its metadata says so (OSP301 decides
     // from the configuration: only with travel limits).
     const Config config;
