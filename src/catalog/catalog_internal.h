@@ -14,14 +14,15 @@
 #include <string_view>
 
 #include "catalog/catalog.h"
+#include "support/text.h"
 
 namespace osplint::catalog_detail {
 
 // ---------------------------------------------------------------------------
 // Small string helpers
 
-std::string upper(std::string_view s);
-bool iequals(std::string_view a, std::string_view b);
+using osplint::iequals;  // support/text.h
+using osplint::upper;
 std::string format_number(double v);
 // The whole of `s` as a number ("5", "-0.5", "1000"), else nullopt.
 std::optional<double> parse_number(std::string_view s);

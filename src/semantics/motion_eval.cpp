@@ -7,11 +7,6 @@
 
 namespace osplint::motion_detail {
 
-std::string upper(std::string_view s) {
-    std::string out(s);
-    for (auto& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return out;
-}
 
 bool contains_ci(std::string_view hay, std::string_view needle) {
     return upper(hay).find(upper(needle)) != std::string::npos;

@@ -17,6 +17,7 @@
 
 #include "catalog/catalog.h"
 #include "semantics/motion.h"
+#include "support/text.h"
 
 namespace osplint::motion_detail {
 
@@ -25,7 +26,7 @@ namespace osplint::motion_detail {
 inline std::string num(double v) { return motion_number(v); }
 // A number as a term of a sum: negative numbers in parentheses.
 inline std::string paren(double v) { return v < 0 ? "(" + num(v) + ")" : num(v); }
-std::string upper(std::string_view s);
+using osplint::upper;  // support/text.h
 bool contains_ci(std::string_view hay, std::string_view needle);
 
 // --- Blocks and the configuration -----------------------------------------------

@@ -18,6 +18,7 @@
 #include <string>
 #include <string_view>
 
+#include "support/text.h"
 #include "syntax/model.h"
 
 namespace osplint::ts_detail {
@@ -49,12 +50,7 @@ inline bool is_error(TSNode n) { return ts_node_symbol(n) == static_cast<TSSymbo
 
 inline ByteRange range_of(TSNode n) { return {ts_node_start_byte(n), ts_node_end_byte(n)}; }
 
-inline std::string upper(std::string_view s) {
-    std::string out(s);
-    for (char& c : out)
-        if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
-    return out;
-}
+using osplint::upper;  // support/text.h
 
 inline bool is_alnum(unsigned char c) {
     return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
