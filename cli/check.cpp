@@ -30,6 +30,7 @@
 #include "api/check.h"
 #include "api/config.h"
 #include "api/fix.h"
+#include "engine/summaries.h"
 #include "engine/workspace.h"
 #include "output/ordered.h"
 #include "output/pipeline.h"
@@ -516,6 +517,9 @@ int run_check(const CheckOptions& given) {
 
     AnalysisOptions options;
     options.known_programs = &names;
+    // What the user subprograms beside the checked files leave behind.
+    SubprogramSummaries summaries(builtin_rules(), directories);
+    options.summaries = &summaries;
 
     auto use_color = [&](int fd) {
         if (std::getenv("NO_COLOR")) return false;

@@ -13,9 +13,12 @@
 #include "api/check.h"
 #include "api/config.h"
 #include "cli/commands.h"
+#include "engine/summaries.h"
 #include "output/svg.h"
+#include "rules/registry.h"
 #include "support/io.h"
 #include "semantics/motion.h"
+#include "semantics/summary.h"
 
 namespace fs = std::filesystem;
 
@@ -106,6 +109,11 @@ public:
             std::string extra = call->kind == CallKind::ModinPositioning
                                     ? " (MODIN of line " + std::to_string(call->modin_line) + ")"
                                     : "";
+            if (call->summary)
+                extra += " (" + fs::path(call->summary->file).filename().string() + ", line " +
+                         std::to_string(call->summary->line) + ": " +
+                         (call->summary->changes_anything() ? call->summary->describe() : "leaves the modes as they were") +
+                         ")";
             out_ << fmt::format("{:>6}  -> {} {}{}\n", "", call_kind_name(call->kind), call->name, extra);
         }
         if (env) {
@@ -140,6 +148,11 @@ int run_trace(const TraceOptions& o) {
     AnalysisOptions options;
     options.observer = &printer;
     options.run_rules = false;  // the states are what is wanted, not the findings
+    // The states after a CALL, as `check` sees them: with what the
+    // subprograms beside the file leave behind.
+    SubprogramDirectories directories;
+    SubprogramSummaries summaries(builtin_rules(), directories);
+    if (o.path != "-") options.summaries = &summaries;
     NoFindings sink;
     const std::string error = check_path(o.path, config, options, sink);
     std::cout.flush();

@@ -61,6 +61,8 @@ public:
                                "... In either case no alarm results; the motion is executed but is incorrect\" (" +
                                    macro::source_ref(*spec, "") + ")",
                                std::nullopt});
+            if (auto from = macro::mode_from_subprogram(v.before, "G91"); !from.empty())
+                d.notes.push_back({from, std::nullopt});
         }
     }
 };

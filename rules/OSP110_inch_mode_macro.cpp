@@ -25,6 +25,7 @@ public:
                                           "its internal distances are taken as inches and the tool moves 25.4 times "
                                           "too far; command G21 and metric values");
         d.notes.push_back({"\"Only the mm unit system can be used\" (" + macro::note_ref(ctx.catalog(), *spec, "mm unit") + ")", std::nullopt});
+        if (auto from = macro::mode_from_subprogram(v.after, "G20"); !from.empty()) d.notes.push_back({from, std::nullopt});
     }
 };
 

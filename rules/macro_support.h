@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include "catalog/catalog.h"
 #include "catalog/citations.h"
 #include "engine/rule.h"
+#include "semantics/summary.h"
 
 namespace osplint::macro {
 
@@ -110,6 +112,21 @@ inline std::string_view call_kind_name_short(CallKind k) {
         case CallKind::Modin: return "MODIN";
         default: return "macro";
     }
+}
+
+// Where a mode came from when a user subprogram set it out of sight: "G91
+// comes from the subprogram O100 (SUB.SSB, line 1), which leaves it in
+// effect", or "" when a block of this program set it (or paths disagree).
+inline std::string mode_from_subprogram(const ModalState& s, std::string_view mode) {
+    const SubprogramSummary* sum = s.modes_from;
+    if (!sum) return "";
+    const bool set = (mode == "G90" || mode == "G91") ? sum->distance.kind == ModeEffect<Distance>::Kind::Set
+                     : (mode == "G20" || mode == "G21") ? sum->units.kind == ModeEffect<Units>::Kind::Set
+                                                        : sum->plane.kind == ModeEffect<Plane>::Kind::Set;
+    if (!set) return "";
+    const std::string file = std::filesystem::path(sum->file).filename().string();
+    return std::string(mode) + " comes from the subprogram " + sum->name + " (" + file + ", line " +
+           std::to_string(sum->line) + "), which " + sum->describe();
 }
 
 inline int plane_number(Plane p) { return p == Plane::G17 ? 17 : p == Plane::G18 ? 18 : 19; }

@@ -13,6 +13,7 @@
 #include "engine/fold.h"
 #include "engine/flow.h"
 #include "engine/positions.h"
+#include "engine/summaries.h"
 #include "engine/suppress.h"
 #include "semantics/eval.h"
 #include "semantics/transfer.h"
@@ -164,6 +165,8 @@ private:
     bool sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode);
     bool sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode);
     void visit(const Block& b, const LineRef& line, Mode mode);
+    // resolve_call, with the summary of a user subprogram the CALL reaches.
+    std::optional<MacroCall> resolve(const Block& b, const ModalState& before) const;
     void enter(const Block& b, uint32_t offset);
     void leave(const Block& b, const LineRef& line);
     void contribute_name(std::string_view name, uint32_t offset);
@@ -190,6 +193,8 @@ private:
     bool plain_ok_ = true;            // plain_moves_possible with this catalog
     std::optional<SuppressionFilter> filter_;
     ProgramNames names_;              // this file's program names
+    // The summaries of the subprograms beside the file its CALLs reached, by name.
+    mutable std::map<std::string, const SubprogramSummary*, std::less<>> summary_of_;
     bool fingerprints_ = false;
     OccurrenceCounter occurrences_;
 
@@ -401,7 +406,7 @@ void Walk::walk_program(size_t index) {
     for (auto& r : rules_) r->begin_program(*this, pv);
     if (options_.observer) options_.observer->program(program_, subprogram_);
 
-    *A_ = initial_state(config_, subprogram_);
+    *A_ = subprogram_ && options_.subprogram_entry ? *options_.subprogram_entry : initial_state(config_, subprogram_);
     reachable_ = true;
     near_ = false;
     walk_blocks();
@@ -427,6 +432,7 @@ void Walk::end_program_walk() {
         program_.end_block = main_.next_line() - 1;
         ProgramView pv{program_, subprogram_, final_state_.reachable ? &final_state_.state : nullptr};
         for (auto& r : rules_) r->end_program(*this, pv);
+        if (options_.observer) options_.observer->program_end(program_, pv.final_state);
         flush();
     }
 }
@@ -857,6 +863,19 @@ void Walk::leave(const Block& b, const LineRef& line) {
     reachable_ = falls;
 }
 
+std::optional<MacroCall> Walk::resolve(const Block& b, const ModalState& before) const {
+    std::optional<MacroCall> call = resolve_call(b, before, config_.catalog);
+    // A name this file defines is its own program: no file beside it is read.
+    if (call && options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty() &&
+        names_.find(call->name) == names_.end()) {
+        // Asked once per name and file: a posted program calls the same few names again and again.
+        auto [it, added] = summary_of_.try_emplace(call->name, nullptr);
+        if (added) it->second = options_.summaries->find(config_, path_, call->name);
+        call->summary = it->second;
+    }
+    return call;
+}
+
 void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     enter(b, line.start);
     const bool rules = mode == Mode::Rules;
@@ -866,7 +885,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     }
     if (!reachable_) {
         if (!rules) return;
-        const std::optional<MacroCall> call = resolve_call(b, unknown_, config_.catalog);
+        const std::optional<MacroCall> call = resolve(b, unknown_);
         ModalState after = unknown_;
         apply_block(b, call ? &*call : nullptr, config_.catalog, after);
         check(BlockView{b, unknown_, after, call ? &*call : nullptr, false}, line, false);
@@ -894,7 +913,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         near_ = true;
         return;
     }
-    const std::optional<MacroCall> call = resolve_call(b, *A_, config_.catalog);
+    const std::optional<MacroCall> call = resolve(b, *A_);
     *B_ = *A_;
     apply_block(b, call ? &*call : nullptr, config_.catalog, *B_);
     near_ = false;

@@ -62,7 +62,15 @@ public:
         (void)program;
         (void)subprogram;
     }
+    // Called when a program has been walked, with the state merged over every
+    // path that ends it (nullptr: none does).
+    virtual void program_end(const Program& program, const ModalState* final_state) {
+        (void)program;
+        (void)final_state;
+    }
 };
+
+class SubprogramSummaries;
 
 // The walk's state before a block, kept so that a later analysis of an edited
 // text can start there (the language server after an edit). Opaque: made and
@@ -119,6 +127,12 @@ struct EngineOptions {
     std::vector<Checkpoint>* checkpoints = nullptr;
     TextChange edit;
     std::optional<CheckpointPlace>* resumed_at = nullptr;
+    // What the user subprograms that CALLs reach leave behind
+    // (engine/summaries.h); nullptr: each is taken to leave the modes as they were.
+    SubprogramSummaries* summaries = nullptr;
+    // The state each subprogram starts with, instead of "nothing known" (the
+    // walks that make the summaries).
+    const ModalState* subprogram_entry = nullptr;
 };
 
 // What the engine did (tests and benchmarks).

@@ -61,6 +61,18 @@ void SubprogramDirectories::add_names(const std::filesystem::path& dir_in, Progr
     out.insert(d.names.begin(), d.names.end());
 }
 
+std::optional<std::filesystem::path> SubprogramDirectories::file_defining(const std::filesystem::path& dir_in,
+                                                                          std::string_view name) {
+    const std::filesystem::path dir = dir_in.empty() ? std::filesystem::path(".") : dir_in;
+    ProgramNames all;
+    add_names(dir, all);
+    if (all.find(name) == all.end()) return std::nullopt;
+    std::lock_guard lock(m_);
+    for (const auto& [file, f] : files_)
+        if (std::filesystem::path(file).parent_path() == dir && f.names.find(name) != f.names.end()) return file;
+    return std::nullopt;
+}
+
 void SubprogramDirectories::invalidate() {
     std::lock_guard lock(m_);
     for (auto& [k, d] : dirs_) d.valid = false;

@@ -12,8 +12,10 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 
 #include "support/io.h"
 
@@ -35,6 +37,9 @@ public:
     // Adds the names of the subprogram files in `dir` (not recursive). Files
     // over `max_file_size` are skipped (not subprogram libraries).
     void add_names(const std::filesystem::path& dir, ProgramNames& out);
+    // The subprogram file in `dir` that defines the program `name` (the first
+    // by path when several do), or nullopt.
+    std::optional<std::filesystem::path> file_defining(const std::filesystem::path& dir, std::string_view name);
     // Forget what was read (files changed on disk).
     void invalidate();
     // How many files were read for their names so far.

@@ -29,10 +29,11 @@ public:
 }  // namespace
 
 std::optional<BlockRecord> block_at(const DocumentModel& doc, const Config& config, const ProgramNames* known,
-                                    uint32_t line) {
+                                    SubprogramSummaries* summaries, uint32_t line) {
     StopAt stop(line);
     AnalysisOptions options;
     options.known_programs = known;
+    options.summaries = summaries;
     options.observer = &stop;
     options.run_rules = false;
     MemorySource src(doc.text());

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "engine/record.h"
+#include "engine/summaries.h"
 #include "engine/workspace.h"
 #include "semantics/config.h"
 #include "syntax/outline.h"
@@ -40,6 +41,6 @@ private:
 // The block of a 1-based line with the modal state before and after it: the
 // engine walks the document (without the rules) and stops there.
 std::optional<BlockRecord> block_at(const DocumentModel& doc, const Config& config, const ProgramNames* known,
-                                    uint32_t line);
+                                    SubprogramSummaries* summaries, uint32_t line);
 
 }  // namespace osplint::lsp

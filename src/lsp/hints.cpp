@@ -88,11 +88,13 @@ std::string envelope_label(const Envelope& env) {
     return "\u2913 " + (l.empty() ? ax + "?" : l) + " \u2912 " + (h.empty() ? ax + "?" : h);
 }
 
-json inlay_hints(const DocumentModel& doc, const Config& config, const ProgramNames* known, uint32_t first,
-                 uint32_t last, Encoding enc, const std::atomic<bool>* cancel) {
+json inlay_hints(const DocumentModel& doc, const Config& config, const ProgramNames* known,
+                 SubprogramSummaries* summaries, uint32_t first, uint32_t last, Encoding enc,
+                 const std::atomic<bool>* cancel) {
     HintCollector collect(doc.source(), config, first, last, enc);
     AnalysisOptions options;
     options.known_programs = known;
+    options.summaries = summaries;
     options.observer = &collect;
     options.run_rules = false;
     options.cancel = cancel;

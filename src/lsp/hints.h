@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstdint>
 
+#include "engine/summaries.h"
 #include "engine/workspace.h"
 #include "lsp/document.h"
 #include "lsp/text.h"
@@ -19,8 +20,9 @@ namespace osplint::lsp {
 
 // The hints of lines [first, last] (1-based): the engine walks the document
 // (without the rules) up to `last` and stops there; `cancel` stops it too.
-json inlay_hints(const DocumentModel& doc, const Config& config, const ProgramNames* known, uint32_t first,
-                 uint32_t last, Encoding enc, const std::atomic<bool>* cancel = nullptr);
+json inlay_hints(const DocumentModel& doc, const Config& config, const ProgramNames* known,
+                 SubprogramSummaries* summaries, uint32_t first, uint32_t last, Encoding enc,
+                 const std::atomic<bool>* cancel = nullptr);
 
 // The label of an envelope's hint: "⤓ Z-37 ⤒ Z5"; an end the analysis cannot
 // bound shows its known point and the side it may pass ("⤓ ≤Z-3 ⤒ ≥Z3" when

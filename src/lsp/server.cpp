@@ -529,7 +529,13 @@ std::optional<fs::path> Server::config_dir(const std::optional<std::string>& pat
     return std::nullopt;
 }
 
+SubprogramSummaries* Server::summaries_for(const Model& m) {
+    // A document with no file (untitled) has no folder to look in.
+    return m.on_disk ? &summaries_ : nullptr;
+}
+
 void Server::collect_known(Model& m, const std::optional<std::string>& path) {
+    m.on_disk = path.has_value();
     m.known.clear();
     if (names_stale_.exchange(false)) directories_.invalidate();
     // Subprogram files beside the document (.SSB/.SUB/.LIB/.MSB).
@@ -587,6 +593,7 @@ void Server::update_model(Model& m, Job& job) {
     } produced;
     AnalysisOptions opts;
     opts.known_programs = &m.known;
+    opts.summaries = summaries_for(m);
     opts.outline = &m.doc.outline;
     opts.cancel = job.outdated.get();
     // A checkpoint every 1/32 of the document (at least every 64 KiB).
@@ -625,7 +632,7 @@ void Server::update_model(Model& m, Job& job) {
 }
 
 const BlockRecord* Server::block_of(Model& m, uint32_t line) {
-    if (!m.hovered || m.hovered->block.line != line) m.hovered = block_at(m.doc, *m.config, &m.known, line);
+    if (!m.hovered || m.hovered->block.line != line) m.hovered = block_at(m.doc, *m.config, &m.known, summaries_for(m), line);
     return m.hovered ? &*m.hovered : nullptr;
 }
 
@@ -749,7 +756,7 @@ json Server::answer(const Pending& p, Model& m, bool current, const std::atomic<
     if (p.method == "textDocument/inlayHint") {
         const ByteRange r = from_lsp_range(source, field(p.params, "range"), encoding_);
         json hints =
-            inlay_hints(m.doc, *m.config, &m.known, source.line_of(r.begin), source.line_of(r.end), encoding_, outdated);
+            inlay_hints(m.doc, *m.config, &m.known, summaries_for(m), source.line_of(r.begin), source.line_of(r.end), encoding_, outdated);
         if (outdated && outdated->load()) throw ContentModified{};  // the walk stopped: an edit came
         return hints;
     }

@@ -31,11 +31,13 @@
 #include <thread>
 #include <vector>
 
+#include "engine/summaries.h"
 #include "engine/workspace.h"
 #include "lsp/document.h"
 #include "lsp/jsonrpc.h"
 #include "lsp/navigation.h"
 #include "lsp/text.h"
+#include "rules/registry.h"
 #include "semantics/config.h"
 
 namespace osplint::lsp {
@@ -139,6 +141,7 @@ private:
         // The programs it defines, as last analysed: read by the other
         // documents' workers (under m_) for the names a CALL may reach.
         std::vector<std::string> program_names;
+        bool on_disk = false;  // the document is a file (its folder holds subprograms)
     };
 
     struct Job {
@@ -176,6 +179,7 @@ private:
     std::vector<OtherDocument> other_documents(const std::string& uri, std::vector<DiskDocument>& loaded);
     std::optional<std::filesystem::path> config_dir(const std::optional<std::string>& path) const;
     void collect_known(Model& m, const std::optional<std::string>& path);
+    SubprogramSummaries* summaries_for(const Model& m);
 
     FrameReader reader_;
     MessageWriter writer_;
@@ -197,6 +201,8 @@ private:
     std::map<std::string, std::unique_ptr<Model>> models_;
     std::set<std::string> busy_;
     SubprogramDirectories directories_;
+    // What the user subprograms beside a document leave behind (engine/summaries.h).
+    SubprogramSummaries summaries_{builtin_rules(), directories_};
     std::atomic<bool> names_stale_{false};
 
     ConfigCache configs_;

@@ -14,6 +14,7 @@
 namespace osplint {
 
 struct MacroSpec;
+struct SubprogramSummary;
 
 enum class CallKind {
     None,
@@ -37,6 +38,9 @@ struct MacroCall {
     ByteRange name_range;             // the name after CALL/MODIN, or the G/M word
     const MacroSpec* spec = nullptr;  // nullptr: not in the catalog
     bool defined_in_files = false;    // a program of that name exists in the checked files
+    // What the user subprogram leaves behind (semantics/summary.h), when the
+    // engine analysed it; nullptr: taken to leave the modes as they were.
+    const SubprogramSummary* summary = nullptr;
     std::vector<MacroArg> args;       // in the order written
     const Word* repeat = nullptr;     // Q repeat count on CALL/MODIN (not the PQ argument)
     std::vector<const Word*> m_codes; // M words written on the call block

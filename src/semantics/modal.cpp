@@ -62,6 +62,7 @@ void merge_cycle(Val<std::optional<ActiveCycle>>& a, const Val<std::optional<Act
 }  // namespace
 
 void ModalState::merge(const ModalState& o) {
+    if (modes_from != o.modes_from) modes_from = nullptr;
     plane.merge(o.plane);
     distance.merge(o.distance);
     units.merge(o.units);

@@ -19,6 +19,8 @@
 
 namespace osplint {
 
+struct SubprogramSummary;
+
 template <class T>
 struct Val {
     bool known = false;
@@ -127,6 +129,11 @@ struct ModalState {
     // Variables with known constant values ("VC12", "PX", ...). A name that is
     // absent has an unknown value.
     std::map<std::string, double> vars;
+
+    // The user subprogram whose summary (semantics/summary.h) set G90/G91, the
+    // plane or the units last, while no block has set one of them since
+    // (nullptr otherwise): the note a rule gives for a mode set out of sight.
+    const SubprogramSummary* modes_from = nullptr;
 
     // One-shot commands of a block (NCYL, NOEX, G100). They describe the block
     // whose `after` state this is and are false in every `before` state (the

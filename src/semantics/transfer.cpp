@@ -13,6 +13,7 @@
 
 #include "catalog/catalog.h"
 #include "semantics/eval.h"
+#include "semantics/summary.h"
 #include "semantics/transfer_internal.h"
 
 namespace osplint {
@@ -149,6 +150,8 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
         }
         return;
     }
+    // A user subprogram the engine analysed: the modes it sets.
+    if (call && call->summary) apply_summary(*call->summary, s);
     // Anything else may leave the interpolation mode, the spindle, the coolant
     // and the synchronised-tapping mode changed.
     s.motion = Val<int>{};
@@ -224,6 +227,7 @@ void end_fixed_cycle(const Block& b, ModalState& s) {
 bool apply_g_codes(const BlockFacts& f, ModalState& s) {
     bool positions_unknown = false;
     for (int c : f.g) {
+        if ((c >= 17 && c <= 21) || c == 90 || c == 91) s.modes_from = nullptr;  // set here, in sight
         switch (c) {
             case 0: case 1: case 2: case 3: case 60: s.motion = Val<int>::of(c); break;
             case 17: s.plane = Val<Plane>::of(Plane::G17); break;
@@ -254,6 +258,7 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
     }
     if (f.unknown_g) {
         // A G code whose value is not known may have changed any G-code mode.
+        s.modes_from = nullptr;
         s.plane = Val<Plane>{};
         s.distance = Val<Distance>{};
         s.units = Val<Units>{};

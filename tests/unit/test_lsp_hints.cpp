@@ -124,9 +124,9 @@ TEST_CASE("lsp: inlay hints: the walk stops when the text is outdated") {
     doc.set_text(text);
     const Config config;
     std::atomic<bool> outdated{false};
-    const json all = inlay_hints(doc, config, nullptr, 1, 4000, Encoding::Utf8, &outdated);
+    const json all = inlay_hints(doc, config, nullptr, nullptr, 1, 4000, Encoding::Utf8, &outdated);
     CHECK(all.size() == 3000);
     outdated = true;
-    const json stopped = inlay_hints(doc, config, nullptr, 1, 4000, Encoding::Utf8, &outdated);
+    const json stopped = inlay_hints(doc, config, nullptr, nullptr, 1, 4000, Encoding::Utf8, &outdated);
     CHECK(stopped.size() <= 1024);
 }

@@ -552,6 +552,29 @@ TEST_CASE("lsp: subprograms beside the document are known (no OSP005 for them)")
     fs::remove_all(dir);
 }
 
+TEST_CASE("lsp: what a subprogram beside the document leaves behind applies at its CALL, as in `check`") {
+    const fs::path dir = fs::temp_directory_path() / ("osplint-lsp-summary-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "SHOP.SSB") << "O100\nG91 G0 X10.\nRTS\n";
+    const std::string uri = path_to_uri((dir / "MAIN.MIN").string());
+    Session s;
+    s.initialize();
+    s.open(uri, "O1\nG90 G17 G21\nCALL O100\nCALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nM30\n");
+    json diags = s.diagnostics(uri, 1)["diagnostics"];
+    int g91 = 0;
+    for (const auto& d : diags)
+        if (d["code"] == "OSP109") {
+            ++g91;
+            CHECK(d["range"]["start"]["line"] == 3);
+            // A note with no place in this document is part of the message.
+            CHECK(d["message"].get<std::string>().find("note: G91 comes from the subprogram O100 (SHOP.SSB, line 1)") !=
+                  std::string::npos);
+        }
+    CHECK(g91 == 1);
+    fs::remove_all(dir);
+}
+
 TEST_CASE("lsp: $/cancelRequest: a waiting request is answered or cancelled, never both, never lost") {
     Session s;
     s.initialize();
