@@ -1,6 +1,7 @@
 // OSP201 g60-with-ncyl: G60 modal and NCYL on one block where the back-counterbore
 // or long-slot keyway macros are in use (the manuals forbid the combination).
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rules/macro_support.h"
@@ -44,7 +45,8 @@ public:
             const MacroSpec* spec = ctx.catalog().find(m->macro);
             if (spec && spec->has(Hazard::G60NcylCollision)) {
                 report(ctx, ncyl->keyword_range, *spec,
-                       "MODIN " + spec->name + " is active (line " + std::to_string(m->line) + ")", std::nullopt);
+                       "MODIN " + spec->name + " is active (line " + std::to_string(m->line) + ")", std::nullopt,
+                       macro::mode_from_subprogram(v.after, "G60"));
                 return;
             }
         }
@@ -53,18 +55,18 @@ public:
         // is the control's own business: only blocks known to be outside any
         // MODIN of such a macro and outside any cycle are kept.
         if (!v.before.modin.known || !v.after.cycle.known || v.after.cycle.value) return;
-        pending_.push_back(ncyl->keyword_range);
+        pending_.push_back({ncyl->keyword_range, macro::mode_from_subprogram(v.after, "G60")});
     }
 
     void end_program(RuleContext& ctx, const ProgramView&) override {
         if (!user_) return;
-        for (const ByteRange& r : pending_)
-            report(ctx, r, *user_, "this program uses " + user_->name, user_range_);
+        for (const auto& [r, from] : pending_)
+            report(ctx, r, *user_, "this program uses " + user_->name, user_range_, from);
     }
 
 private:
     void report(RuleContext& ctx, ByteRange where, const MacroSpec& spec, const std::string& context,
-                std::optional<ByteRange> call) {
+                std::optional<ByteRange> call, const std::string& from) {
         std::string src = forbidding_source(ctx.catalog(), spec);
         auto& d = ctx.report(kMeta, where,
                              "G60 is modal and NCYL is on this block while " + context +
@@ -75,9 +77,10 @@ private:
                            "ignored and the tool collides with the workpiece.\" (" + src + ")",
                            std::nullopt});
         if (call) d.notes.push_back({spec.name + " is used here", ctx.resolve(*call)});
+        if (!from.empty()) d.notes.push_back({from, std::nullopt});
     }
 
-    std::vector<ByteRange> pending_;
+    std::vector<std::pair<ByteRange, std::string>> pending_;  // NCYL, and where G60 came from
     const MacroSpec* user_ = nullptr;
     ByteRange user_range_;
 };

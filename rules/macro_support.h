@@ -115,14 +115,25 @@ inline std::string_view call_kind_name_short(CallKind k) {
 }
 
 // Where a mode came from when a user subprogram set it out of sight: "G91
-// comes from the subprogram O100 (SUB.SSB, line 1), which leaves it in
+// comes from the subprogram O100 (SUB.SSB, line 1), which leaves G91 in
 // effect", or "" when a block of this program set it (or paths disagree).
+// `mode` is G90, G91, G17, G18, G19, G20, G21 or G60.
 inline std::string mode_from_subprogram(const ModalState& s, std::string_view mode) {
     const SubprogramSummary* sum = s.modes_from;
     if (!sum) return "";
-    const bool set = (mode == "G90" || mode == "G91") ? sum->distance.kind == ModeEffect<Distance>::Kind::Set
-                     : (mode == "G20" || mode == "G21") ? sum->units.kind == ModeEffect<Units>::Kind::Set
-                                                        : sum->plane.kind == ModeEffect<Plane>::Kind::Set;
+    using K = ModeEffect<Distance>::Kind;
+    bool set = false;
+    if (mode == "G90" || mode == "G91")
+        set = sum->distance.kind == K::Set && s.distance.is(sum->distance.value) &&
+              (sum->distance.value == Distance::Incremental) == (mode == "G91");
+    else if (mode == "G20" || mode == "G21")
+        set = sum->units.kind == ModeEffect<Units>::Kind::Set && s.units.is(sum->units.value) &&
+              (sum->units.value == Units::Inch) == (mode == "G20");
+    else if (mode == "G60")
+        set = sum->motion.kind == ModeEffect<int>::Kind::Set && sum->motion.value == 60 && s.motion.is(60);
+    else
+        set = sum->plane.kind == ModeEffect<Plane>::Kind::Set && s.plane.is(sum->plane.value) &&
+              plane_name(sum->plane.value) == mode;
     if (!set) return "";
     const std::string file = std::filesystem::path(sum->file).filename().string();
     return std::string(mode) + " comes from the subprogram " + sum->name + " (" + file + ", line " +

@@ -41,6 +41,7 @@ ModalState summary_probe(int which) {
     s.distance = Val<Distance>::of(which == 0 ? Distance::Absolute : Distance::Incremental);
     s.plane = Val<Plane>::of(which == 0 ? Plane::G17 : Plane::G18);
     s.units = Val<Units>::of(which == 0 ? Units::Mm : Units::Inch);
+    s.motion = Val<int>::of(which == 0 ? 0 : 1);
     return s;
 }
 
@@ -50,6 +51,7 @@ SubprogramSummary summarize(const ModalState* end0, const ModalState* end1) {
     s.distance = effect(in0.distance, in1.distance, end0, end1, &ModalState::distance);
     s.plane = effect(in0.plane, in1.plane, end0, end1, &ModalState::plane);
     s.units = effect(in0.units, in1.units, end0, end1, &ModalState::units);
+    s.motion = effect(in0.motion, in1.motion, end0, end1, &ModalState::motion);
     return s;
 }
 
@@ -58,11 +60,12 @@ void apply_summary(const SubprogramSummary& summary, ModalState& s) {
     apply(summary.distance, s.distance);
     apply(summary.plane, s.plane);
     apply(summary.units, s.units);
+    apply(summary.motion, s.motion);
 }
 
 bool SubprogramSummary::changes_anything() const {
     return distance.kind != ModeEffect<Distance>::Kind::Kept || plane.kind != ModeEffect<Plane>::Kind::Kept ||
-           units.kind != ModeEffect<Units>::Kind::Kept;
+           units.kind != ModeEffect<Units>::Kind::Kept || motion.kind != ModeEffect<int>::Kind::Kept;
 }
 
 std::string SubprogramSummary::describe() const {
@@ -71,6 +74,7 @@ std::string SubprogramSummary::describe() const {
     if (distance.kind == D::Set) parts.push_back(distance.value == Distance::Absolute ? "G90" : "G91");
     if (plane.kind == ModeEffect<Plane>::Kind::Set) parts.push_back(plane_name(plane.value));
     if (units.kind == ModeEffect<Units>::Kind::Set) parts.push_back(units.value == Units::Mm ? "G21 (mm)" : "G20 (inch)");
+    if (motion.kind == ModeEffect<int>::Kind::Set) parts.push_back("G" + std::to_string(motion.value));
     std::string out;
     if (!parts.empty()) {
         out = "leaves ";
@@ -81,6 +85,7 @@ std::string SubprogramSummary::describe() const {
     if (distance.kind == D::Unknown) unknown.push_back("G90/G91");
     if (plane.kind == ModeEffect<Plane>::Kind::Unknown) unknown.push_back("the plane");
     if (units.kind == ModeEffect<Units>::Kind::Unknown) unknown.push_back("the units");
+    if (motion.kind == ModeEffect<int>::Kind::Unknown) unknown.push_back("the interpolation mode");
     if (!unknown.empty()) {
         if (!out.empty()) out += "; ";
         out += "may change ";

@@ -3,7 +3,7 @@
 // subprogram itself: the modes it sets on every path to its end.
 //
 // The subprogram is walked twice, from two entry states that differ in every
-// summarised mode (G90/G17/mm, then G91/G18/inch). A mode that ends the same
+// summarised mode (G90/G17/mm/G0, then G91/G18/inch/G1). A mode that ends the same
 // in both walks is set by the subprogram; one that ends as it came in both is
 // left as the caller had it; anything else (set on some paths only, or from a
 // variable) is unknown after the call. Subprograms it calls in turn are taken
@@ -36,6 +36,7 @@ struct SubprogramSummary {
     ModeEffect<Distance> distance;
     ModeEffect<Plane> plane;
     ModeEffect<Units> units;
+    ModeEffect<int> motion;  // G0, G1, G2, G3 or G60 (a subprogram that ends in G60 keeps NCYL from working)
 
     // Whether it changes anything the caller had.
     bool changes_anything() const;
@@ -44,7 +45,8 @@ struct SubprogramSummary {
 };
 
 // The two entry states of the walks: the state of a subprogram's entry
-// (nothing known) with the summarised modes set one way, then the other.
+// (nothing known) with the summarised modes set one way, then the other
+// (G90 G17 mm G0, then G91 G18 inch G1).
 ModalState summary_probe(int which);
 // The summary from the states where the two walks end (nullptr: no path
 // reaches the end of the subprogram).

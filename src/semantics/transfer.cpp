@@ -150,11 +150,15 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
         }
         return;
     }
-    // A user subprogram the engine analysed: the modes it sets.
-    if (call && call->summary) apply_summary(*call->summary, s);
     // Anything else may leave the interpolation mode, the spindle, the coolant
-    // and the synchronised-tapping mode changed.
+    // and the synchronised-tapping mode changed; a user subprogram the engine
+    // analysed sets what its summary says.
+    const Val<int> motion = s.motion;
     s.motion = Val<int>{};
+    if (call && call->summary) {
+        s.motion = motion;
+        apply_summary(*call->summary, s);
+    }
     s.spindle = Val<int>{};
     s.spindle_stopped_by = Val<uint32_t>{};
     s.spindle_speed = Val<double>{};
@@ -227,7 +231,7 @@ void end_fixed_cycle(const Block& b, ModalState& s) {
 bool apply_g_codes(const BlockFacts& f, ModalState& s) {
     bool positions_unknown = false;
     for (int c : f.g) {
-        if ((c >= 17 && c <= 21) || c == 90 || c == 91) s.modes_from = nullptr;  // set here, in sight
+        if ((c >= 17 && c <= 21) || c == 60 || c == 90 || c == 91) s.modes_from = nullptr;  // set here, in sight
         switch (c) {
             case 0: case 1: case 2: case 3: case 60: s.motion = Val<int>::of(c); break;
             case 17: s.plane = Val<Plane>::of(Plane::G17); break;

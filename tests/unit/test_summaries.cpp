@@ -101,6 +101,25 @@ TEST_CASE("subprogram summaries: the modes a subprogram leaves apply at its CALL
         const SubprogramSummary* s = summaries.find(Config{}, (f.dir / "MAIN.MIN").string(), "O100");
         REQUIRE(s);
         CHECK(s->describe() == "leaves G18 and G20 (inch) in effect");
+        bool noted = false;
+        for (const auto& n : ds[0].notes)
+            if (n.message.find("G20 comes from the subprogram O100 (SUB.SSB, line 1)") != std::string::npos) noted = true;
+        CHECK(noted);
+    }
+    SUBCASE("a subprogram that ends in G60 makes NCYL ineffective (OSP201), with the subprogram as a note") {
+        f.write("SUB.SSB", "O100\nG60 X10. Y10.\nRTS\n");
+        const std::string main = "O1000\nG90 G17 G21\nCALL OZAGR PR=5 PZ=-20 PI=12 PL=3 PD=2\nG0 X0 Y0 Z50.\n"
+                                 "CALL O100\nNCYL X20. Y20.\nM30\n";
+        auto ds = findings(f, main, summaries, "OSP201");
+        REQUIRE(ds.size() == 1);
+        CHECK(ds[0].range.start.line == 6);
+        bool noted = false;
+        for (const auto& n : ds[0].notes)
+            if (n.message.find("G60 comes from the subprogram O100") != std::string::npos) noted = true;
+        CHECK(noted);
+        // A G0 in the subprogram after the G60: nothing to report.
+        f.write("SUB.SSB", "O100\nG60 X10. Y10.\nG0 Z50.\nRTS\n");
+        CHECK(findings(f, main, summaries, "OSP201").empty());
     }
     SUBCASE("a program of the checked file itself is not looked for beside it") {
         f.write("SUB.SSB", "O100\nG91\nRTS\n");
@@ -128,12 +147,14 @@ TEST_CASE("subprogram summaries: each mode is set, kept or unknown") {
     ModalState end0 = summary_probe(0), end1 = summary_probe(1);
     end0.distance = end1.distance = Val<Distance>::of(Distance::Incremental);  // set on every path
     end1.units = Val<Units>{};                                                 // unknown in one walk
+    end0.motion = end1.motion = Val<int>::of(60);                              // G60 on every path
     const SubprogramSummary s = summarize(&end0, &end1);
     CHECK(s.distance.kind == ModeEffect<Distance>::Kind::Set);
     CHECK(s.distance.value == Distance::Incremental);
     CHECK(s.plane.kind == ModeEffect<Plane>::Kind::Kept);
     CHECK(s.units.kind == ModeEffect<Units>::Kind::Unknown);
-    CHECK(s.describe() == "leaves G91 in effect; may change the units");
+    CHECK(s.motion.kind == ModeEffect<int>::Kind::Set);
+    CHECK(s.describe() == "leaves G91 and G60 in effect; may change the units");
 
     ModalState caller;
     caller.distance = Val<Distance>::of(Distance::Absolute);
@@ -143,6 +164,7 @@ TEST_CASE("subprogram summaries: each mode is set, kept or unknown") {
     CHECK(caller.distance.is(Distance::Incremental));
     CHECK(caller.plane.is(Plane::G19));
     CHECK_FALSE(caller.units.known);
+    CHECK(caller.motion.is(60));
     CHECK(caller.modes_from == &s);
     // No path to the end: nothing is known after the call.
     const SubprogramSummary none = summarize(nullptr, nullptr);
