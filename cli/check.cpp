@@ -314,12 +314,6 @@ void fix_stdin(int& fd, const std::string& path, const Config& config, const Ana
     if (!std::cout) out.error = "the fixed program could not be written to standard output";
 }
 
-// Takes the findings and keeps none (--diff: the diff is the report).
-class NullSink final : public DiagnosticSink {
-public:
-    void diagnostic(Diagnostic&&) override {}
-};
-
 // --statistics: how many findings each rule made, in place of the findings.
 class RuleStatistics final : public DiagnosticSink {
 public:
@@ -543,7 +537,7 @@ int run_check(const CheckOptions& given) {
     std::unique_ptr<TeeSink> tee;
     DiagnosticSink* tail = writer.get();
     RuleStatistics statistics;
-    NullSink discard;
+    DiscardFindings discard;  // --diff: the diff is the report
     if (o.diff) {
         tail = &discard;  // the diff is the report
     } else if (o.statistics) {

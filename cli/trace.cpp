@@ -131,12 +131,6 @@ private:
     bool keep_;
 };
 
-// The trace reports no findings; the directives' own findings are dropped too.
-class NoFindings final : public DiagnosticSink {
-public:
-    void diagnostic(Diagnostic&&) override {}
-};
-
 }  // namespace
 
 int run_trace(const TraceOptions& o) {
@@ -153,7 +147,7 @@ int run_trace(const TraceOptions& o) {
     SubprogramDirectories directories;
     SubprogramSummaries summaries(builtin_rules(), directories);
     if (o.path != "-") options.summaries = &summaries;
-    NoFindings sink;
+    DiscardFindings sink;  // the trace reports the states, not findings
     const std::string error = check_path(o.path, config, options, sink);
     std::cout.flush();
     if (!error.empty()) {

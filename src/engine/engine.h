@@ -72,6 +72,13 @@ public:
 
 class SubprogramSummaries;
 
+// A sink that keeps no finding: walks made for their states (trace, hover,
+// inlay hints, subprogram summaries) and `check --diff`.
+class DiscardFindings final : public DiagnosticSink {
+public:
+    void diagnostic(Diagnostic&&) override {}
+};
+
 // The walk's state before a block, kept so that a later analysis of an edited
 // text can start there (the language server after an edit). Opaque: made and
 // read by the engine only.

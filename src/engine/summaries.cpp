@@ -33,11 +33,6 @@ private:
     std::optional<ModalState> end_;
 };
 
-class Discard final : public DiagnosticSink {
-public:
-    void diagnostic(Diagnostic&&) override {}
-};
-
 }  // namespace
 
 const SubprogramSummary* SubprogramSummaries::find(const Config& config, const std::string& checked_path,
@@ -74,7 +69,7 @@ std::optional<SubprogramSummary> SubprogramSummaries::make(const Config& config,
         options.run_rules = false;
         options.observer = &end;
         options.subprogram_entry = &entry;  // no summaries: what it calls in turn keeps the modes
-        Discard discard;
+        DiscardFindings discard;
         const std::string error = run_engine(file.string(), src, config, options, discard);
         ::close(fd);
         ++walks_;

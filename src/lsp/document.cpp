@@ -19,13 +19,6 @@ private:
     uint32_t line_;
 };
 
-// Discards what the walk reports (hover runs no rules; the directives'
-// findings still come).
-class Discard final : public DiagnosticSink {
-public:
-    void diagnostic(Diagnostic&&) override {}
-};
-
 }  // namespace
 
 std::optional<BlockRecord> block_at(const DocumentModel& doc, const Config& config, const ProgramNames* known,
@@ -37,7 +30,7 @@ std::optional<BlockRecord> block_at(const DocumentModel& doc, const Config& conf
     options.observer = &stop;
     options.run_rules = false;
     MemorySource src(doc.text());
-    Discard sink;
+    DiscardFindings sink;  // hover runs no rules; the directives' own findings are dropped too
     check_source(doc.path, src, config, options, sink);
     return std::move(stop.found);
 }

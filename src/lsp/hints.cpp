@@ -59,11 +59,6 @@ private:
     Encoding enc_;
 };
 
-class Discard final : public DiagnosticSink {
-public:
-    void diagnostic(Diagnostic&&) override {}
-};
-
 bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
 
 }  // namespace
@@ -99,7 +94,7 @@ json inlay_hints(const DocumentModel& doc, const Config& config, const ProgramNa
     options.run_rules = false;
     options.cancel = cancel;
     MemorySource src(doc.text());
-    Discard sink;
+    DiscardFindings sink;  // no rules run; the directives' own findings are dropped too
     check_source(doc.path, src, config, options, sink);
     return std::move(collect.hints);
 }
