@@ -62,7 +62,13 @@ Position Window::position(uint32_t offset) const {
     }
     uint32_t from = starts[k];
     ColumnCount c;
-    if (memo_.line == p.line && memo_.byte_col <= p.byte_col) {
+    // The count goes on from the last position only where that position
+    // starts a character: from inside a multi-byte sequence its remaining
+    // bytes would count as characters of their own.
+    const auto starts_char = [&](uint32_t col) {
+        return col == 0 || (static_cast<unsigned char>(text[starts[k] + col]) & 0xC0) != 0x80;
+    };
+    if (memo_.line == p.line && memo_.byte_col <= p.byte_col && starts_char(memo_.byte_col)) {
         from = starts[k] + memo_.byte_col;
         c.cp = memo_.cp_col;
         c.utf16 = memo_.utf16_col;

@@ -453,6 +453,16 @@ TEST_CASE("engine: plain moves in every modal state give the reference's result"
     for (const char* id : {"OSP003", "OSP004", "OSP212", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
 }
 
+TEST_CASE("columns: a finding that starts inside a multi-byte character does not shift the next one") {
+    // Bytes of a Shift-JIS comment read as UTF-8: the error ranges of the line
+    // start inside sequences; the columns of a later range on the same line
+    // must be what counting from the line start gives, whatever the chunks.
+    const std::string line = "G56 MFPXER ON 5 X D8 HOLT AND BACK CHAMFPXER ON 5 X D8 Z50. H2 ("
+                             "\x8dH\x8b\xef\x92\xb7\x95\xe2\x90\xb3)";
+    Config config;
+    compare_checks("mb.min", "O1\n" + line + "\nM30\n", config);
+}
+
 TEST_CASE("plain moves: a G0..G3 registered as a macro turns the shortcut off") {
     Config config;
     CHECK(plain_moves_possible(config.catalog));
