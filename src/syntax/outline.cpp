@@ -9,6 +9,7 @@
 
 #include "syntax/directive.h"
 #include "syntax/frontend_fast.h"
+#include "syntax/frontend_fast_lexer.h"
 
 namespace osplint {
 namespace {
@@ -29,21 +30,28 @@ struct Scan {
     uint32_t line_ends = 0;           // line ends in [p, candidate) (or in [p, e))
 };
 
-// Whether the 'N' at p, first on its line, is an N word (`N=60`: a value, so
-// a reference) rather than the line's sequence name: '=' follows it, after
-// blanks. The line is whole in [p, e).
+// Whether the 'N' at p, first on its line, may be an N word (`N=60`, `N+1`:
+// a value, so a reference) rather than the line's sequence name. The line
+// parser takes a sequence name where a digit follows the N, or a letter and
+// no '=' or '[' after the name (`NAT=1` is an assignment). Anything else
+// makes the N a word. The line is whole in [p, e).
 inline bool n_word_at_line_start(const char* p, const char* e) {
-    for (++p; p < e && (*p == ' ' || *p == '\t'); ++p) {
-    }
-    return p < e && *p == '=';
+    using fast_detail::is_alnum;
+    ++p;
+    if (p >= e || fast_detail::is_digit(*p)) return false;
+    if (!fast_detail::is_letter(*p)) return !is_break(*p);
+    while (p < e && is_alnum(*p)) ++p;
+    while (p < e && fast_detail::is_blank(*p)) ++p;
+    return p < e && (*p == '=' || *p == '[');
 }
 
 // The first byte of [p, e) that may belong to an outlined item (see the
 // header), and the number of lines that end before it. p starts a line when
 // `line_start`. Bytes 16 at a time: a letter folded to lower case by OR 0x20
 // equals 'o', 'e', 't' or 'w'; an 'f' right after an 'i'; an 'n' not right
-// after a line break, or right after one and followed by '='. No other byte
-// maps to a lower-case letter under OR 0x20. A line ends at an LF, or at a CR
+// after a line break, or right after one and maybe an N word
+// (n_word_at_line_start). No other byte maps to a lower-case letter under OR
+// 0x20. A line ends at an LF, or at a CR
 // that no LF follows.
 Scan next_candidate(const char* p, const char* e, bool line_start) {
     Scan out;

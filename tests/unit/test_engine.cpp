@@ -118,6 +118,16 @@ TEST_CASE("engine: the grammar corpus inputs") {
     for (const auto& input : grammar_inputs()) compare_checks("corpus.min", input, Config{});
 }
 
+TEST_CASE("engine: the inputs that once made the fuzzer find a divergence (fuzz/regressions)") {
+    const fs::path dir = fs::path(OSPLINT_SOURCE_DIR) / "fuzz" / "regressions";
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        compare_checks(e.path().filename().string(), read_all(e.path()), Config{});
+        ++n;
+    }
+    CHECK(n >= 2);
+}
+
 TEST_CASE("engine: a fix on the last line, without a line end") {
     for (const char* text : {"O1\r\nG0 X1. M843", "O1\nS500 M843\r\nM30", "O1\nS500 M843"})
         compare_checks("fix.min", text, Config{});
@@ -317,7 +327,8 @@ TEST_CASE("engine: jumps and loops") {
         }
     }
     SUBCASE("an N word first on its line is a reference, not a sequence name") {
-        for (const char* line : {"N=60", "N =60", "N\t= 60", "N=VC1", "n=60"})
+        for (const char* line : {"N=60", "N =60", "N\t= 60", "N=VC1", "n=60", "N+60", "N-60", "N.5", "N[60]",
+                                 "N [60]", "NAT[1]=60", "N@60"})
             compare_checks("a.min", "O1\n" + std::string(line) + " G0 X1\nN60 M30\n", config);
     }
     SUBCASE("a block-deleted jump and a block-deleted END") {
