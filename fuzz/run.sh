@@ -27,7 +27,8 @@ fi
 ninja -C "$dir/core" -j "$jobs" diff_fuzz >/dev/null
 target="$dir/core/diff_fuzz"
 
-# Seeds: every program of the repository (small ones), as they are.
+# Seeds: every program of the repository (small ones), as they are, and the
+# inputs that once made the front ends or the engine diverge (fuzz/regressions).
 seeds="$dir/seeds"
 corpus=${OSPLINT_FUZZ_CORPUS:-$dir/corpus}
 rm -rf "$seeds"  # the programs as they are now, none left from an earlier checkout
@@ -38,4 +39,4 @@ find "$root/tests/programs" "$root/examples" "$root/tests/rules" "$root/tests/fr
 
 cd "$dir"
 exec "$target" -dict="$root/fuzz/osp.dict" -max_len=4096 -timeout=20 -rss_limit_mb=2048 \
-  -print_final_stats=1 "$@" "$corpus" "$seeds"
+  -print_final_stats=1 "$@" "$corpus" "$seeds" "$root/fuzz/regressions"

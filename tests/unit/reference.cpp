@@ -122,7 +122,9 @@ FileOutline reference_outline(const ProgramFile& file) {
         po.name_range = p.name_range;
         for (uint32_t i = p.first_block; i < p.end_block; ++i) {
             const Block& b = file.blocks[i];
-            if (b.kind == LineKind::Block && !b.is_empty()) po.has_content = true;
+            // A program name starts a program even on a line with a syntax
+            // error, and makes it one with content.
+            if (b.program_name || (b.kind == LineKind::Block && !b.is_empty())) po.has_content = true;
             FlowSite site;
             for (const auto& st : b.statements) {
                 if (st.kind == StmtKind::Rts) po.has_rts = true;
