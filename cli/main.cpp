@@ -109,7 +109,8 @@ int cmd_rules(const std::string& format) {
                            {"since", m.since},
                            {"blocks", m.blocks == RuleBlocks::All ? "all" : "statements"},
                            {"analysis_switch", m.analysis_switch},
-                           {"selected_by_prefix", m.selected_by_prefix}});
+                           {"selected_by_prefix", m.selected_by_prefix},
+                           {"reports_may", m.reports_may}});
         }
         std::cout << out.dump(2) << "\n";
         return 0;

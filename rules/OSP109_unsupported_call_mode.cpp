@@ -10,7 +10,12 @@ constexpr RuleMeta kMeta{
     .severity = Severity::Error,
     .summary = "A macro is invoked in a form or mode its manual does not support",
     .category = RuleCategory::WrongMotion,
+    .reports_may = true,
 };
+
+constexpr std::string_view kG91Quote =
+    "\"This program cannot be used with MODIN. It cannot be used in G91 mode either ... In either case no alarm "
+    "results; the motion is executed but is incorrect\" (";
 
 std::string documented_forms(const MacroSpec& s) {
     std::string out;
@@ -57,13 +62,30 @@ public:
                                  spec->name + " cannot be used in G91 mode: its cutter path is not closed internally, "
                                               "so no alarm results but the slot is cut at shifted positions; "
                                               "command G90 before the call");
-            d.notes.push_back({"\"This program cannot be used with MODIN. It cannot be used in G91 mode either "
-                               "... In either case no alarm results; the motion is executed but is incorrect\" (" +
-                                   macro::source_ref(*spec, "") + ")",
-                               std::nullopt});
+            d.notes.push_back({std::string(kG91Quote) + macro::source_ref(*spec, "") + ")", std::nullopt});
             if (auto from = macro::mode_from_subprogram(v.before, "G91"); !from.empty())
                 d.notes.push_back({from, std::nullopt});
+            return;
         }
+        if (spec->g91 == G91Mode::Unsupported && !v.before.distance.known)
+            if (const Origin* g91 = v.before.distance_from.find(Distance::Incremental)) report_may_g91(ctx, *spec, *c, *g91);
+    }
+
+private:
+    // The paths that reach the call disagree on G90/G91, and on one of them
+    // G91 is in effect: a loop's jump or a branch brings it.
+    static void report_may_g91(RuleContext& ctx, const MacroSpec& spec, const MacroCall& c, const Origin& g91) {
+        std::string where = g91.line ? "G91 is set at line " + std::to_string(g91.line) : "G91 is in effect at the start";
+        if (g91.via_line) where += " and reaches this call through the jump at line " + std::to_string(g91.via_line);
+        Diagnostic* d = report_may(ctx, kMeta, c.name_range,
+                                   spec.name + " may run in G91 mode here: " + where +
+                                       ", while other paths reach it in G90; under G91 no alarm results but the slot "
+                                       "is cut at shifted positions; command G90 before the call");
+        if (!d) return;
+        if (g91.line && !g91.range.empty()) d->notes.push_back({"G91 is set here", ctx.resolve(g91.range)});
+        if (g91.via_line && !g91.via_range.empty())
+            d->notes.push_back({"the path with G91 jumps here", ctx.resolve(g91.via_range)});
+        d->notes.push_back({std::string(kG91Quote) + macro::source_ref(spec, "") + ")", std::nullopt});
     }
 };
 

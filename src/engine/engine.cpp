@@ -40,6 +40,18 @@ struct MaybeState {
         return !(state == before);
     }
     bool merge(const MaybeState& o) { return o.reachable ? merge(o.state) : false; }
+    // Merges in `o` flowing along the jump of the block at `line`.
+    bool merge_jump(const ModalState& o, uint32_t line, ByteRange range) {
+        if (!reachable) {
+            state = o;
+            state.jumped(line, range);
+            reachable = true;
+            return true;
+        }
+        ModalState before = state;
+        state.merge_jump(o, line, range);
+        return !(state == before);
+    }
 };
 
 // A line of a loop held in memory while the loop is iterated.
@@ -169,9 +181,10 @@ private:
     std::optional<MacroCall> resolve(const Block& b, const ModalState& before) const;
     void enter(const Block& b, uint32_t offset);
     void leave(const Block& b, const LineRef& line);
-    void contribute_name(std::string_view name, uint32_t offset);
-    void contribute_offset(uint32_t target, uint32_t offset);
-    void join_reached(uint32_t target, uint32_t offset);
+    // The state after the block at `offset` (its jump: `line`, `range`) flows to a sequence name or an offset.
+    void contribute_name(std::string_view name, uint32_t offset, uint32_t line, ByteRange range);
+    void contribute_offset(uint32_t target, uint32_t offset, uint32_t line, ByteRange range);
+    void join_reached(uint32_t target, uint32_t offset, uint32_t line, ByteRange range);
     void set_state(const MaybeState& s);
     void check(const BlockView& view, const LineRef& line, bool plain);
 
@@ -796,27 +809,27 @@ void Walk::enter(const Block& b, uint32_t offset) {
     near_ = false;
 }
 
-void Walk::contribute_name(std::string_view name, uint32_t offset) {
+void Walk::contribute_name(std::string_view name, uint32_t offset, uint32_t line, ByteRange range) {
     auto [it, inserted] = pending_name_.try_emplace(std::string(name));
-    if (!it->second.merge(*B_) || !in_loop_) return;
+    if (!it->second.merge_jump(*B_, line, range) || !in_loop_) return;
     if (auto d = defs_.find(it->first); d != defs_.end())
         for (uint32_t def : d->second)
-            if (def >= loop_start_) join_reached(def, offset);
+            if (def >= loop_start_) join_reached(def, offset, line, range);
 }
 
-void Walk::contribute_offset(uint32_t target, uint32_t offset) {
-    if (!pending_offset_[target].merge(*B_) || !in_loop_) return;
-    if (target >= loop_start_) join_reached(target, offset);
+void Walk::contribute_offset(uint32_t target, uint32_t offset, uint32_t line, ByteRange range) {
+    if (!pending_offset_[target].merge_jump(*B_, line, range) || !in_loop_) return;
+    if (target >= loop_start_) join_reached(target, offset, line, range);
 }
 
 // The state after the block at `offset` (B_) now also flows into the join at
 // `target` inside the loop being iterated. When that changes what the join
 // has seen, a join already walked in this sweep needs another sweep; a join
 // further on sees something new in this one.
-void Walk::join_reached(uint32_t target, uint32_t offset) {
+void Walk::join_reached(uint32_t target, uint32_t offset, uint32_t line, ByteRange range) {
     if (auto j = join_.find(target); j != join_.end()) {
         MaybeState merged = j->second;
-        if (!merged.merge(*B_)) return;  // nothing new there
+        if (!merged.merge_jump(*B_, line, range)) return;  // nothing new there
     }
     if (target <= offset) loop_changed_ = true;
     mark_changed(target);
@@ -847,8 +860,9 @@ void Walk::leave(const Block& b, const LineRef& line) {
     bool falls = true, exits = false;
     if (has_flow_statement(b)) {
         const BlockEdges e = block_edges(b, line.start, next, flow_);
-        for (std::string_view name : e.jumps) contribute_name(name, line.start);
-        for (uint32_t t : e.targets) contribute_offset(t, line.start);
+        const ByteRange jump = jump_range(b);
+        for (std::string_view name : e.jumps) contribute_name(name, line.start, line.line, jump);
+        for (uint32_t t : e.targets) contribute_offset(t, line.start, line.line, jump);
         falls = e.falls_through;
         exits = e.exits;
     } else {

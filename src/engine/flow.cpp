@@ -64,6 +64,18 @@ bool ProgramFlow::is_referenced(std::string_view name) const {
     return !references_.empty() && references_.find(name) != references_.end();
 }
 
+ByteRange jump_range(const Block& b) {
+    ByteRange r;
+    for (const auto& st : b.statements) {
+        if (st.kind != StmtKind::Goto && st.kind != StmtKind::If && st.kind != StmtKind::While &&
+            st.kind != StmtKind::End)
+            continue;
+        if (r.empty()) r.begin = st.range.begin;
+        r.end = st.range.end;
+    }
+    return r;
+}
+
 bool has_flow_statement(const Block& b) {
     for (const auto& st : b.statements)
         switch (st.kind) {

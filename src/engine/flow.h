@@ -83,5 +83,8 @@ BlockEdges block_edges(const Block& block, uint32_t offset, uint32_t next, const
 
 // Whether a block holds GOTO, IF, WHILE, DO or END.
 bool has_flow_statement(const Block& block);
+// The range of a block's jumps: from its first GOTO, IF, WHILE or END to the
+// end of its last one (empty when it has none).
+ByteRange jump_range(const Block& block);
 
 }  // namespace osplint

@@ -84,6 +84,10 @@ struct RuleMeta {
     // reach it. false: only its own ID or name in [rules] turns it off (a
     // file that does not parse is never passed over by a broad selection).
     bool selected_by_prefix = true;
+    // Whether it also reports what holds on some paths only (a mode that a
+    // loop's jump or a branch may bring), at the severity of [analysis]
+    // may-findings (report_may).
+    bool reports_may = false;
 };
 
 // A rule ID that names no rule any more: IDs are never reused, and a
@@ -147,6 +151,17 @@ public:
     // build its message; when it is not, the rule reports it next.
     virtual bool folded(const RuleMeta& rule, std::string_view key, ByteRange range) = 0;
 };
+
+// Reports a finding that holds on some paths only ("G91 may be in effect
+// here"): at the severity [analysis] may-findings gives, never above the
+// rule's own; nullptr when may-findings is "off" (the rule then adds nothing).
+inline Diagnostic* report_may(RuleContext& ctx, const RuleMeta& rule, ByteRange range, std::string message) {
+    const std::optional<Severity> may = ctx.config().may_severity;
+    if (!may) return nullptr;
+    Diagnostic& d = ctx.report(rule, range, std::move(message));
+    if (static_cast<int>(*may) < static_cast<int>(d.severity)) d.severity = *may;
+    return &d;
+}
 
 class Rule {
 public:

@@ -260,10 +260,17 @@ Config read_chain(std::string_view text, const std::string& origin, const RuleId
     if (const auto* n = root.get("per-path")) read_per_path(c, origin, *n, rules);
     if (const auto* n = root.get("analysis")) {
         const auto& t = expect_table(origin, *n, "analysis");
-        check_keys(origin, t, "analysis.", {"explain-unknown"});
+        check_keys(origin, t, "analysis.", {"explain-unknown", "may-findings"});
         if (const auto* e = t.get("explain-unknown")) {
             if (!e->is_boolean()) fail(origin, *e, "analysis.explain-unknown", "expected true or false");
             c.explain_unknown = *e->value<bool>();
+        }
+        if (const auto* e = t.get("may-findings")) {
+            const auto v = e->value<std::string>();
+            const auto sev = v ? parse_severity(*v) : std::nullopt;
+            if (!v || (!sev && *v != "off"))
+                fail(origin, *e, "analysis.may-findings", "expected \"error\", \"warning\", \"info\" or \"off\"");
+            c.may_severity = sev;
         }
     }
     return c;
@@ -408,6 +415,7 @@ std::string render_config(const Config& c, const RuleIdentities& rule_ids) {
     root.insert("rules", std::move(rules));
     toml::table analysis;
     analysis.insert("explain-unknown", c.explain_unknown);
+    analysis.insert("may-findings", c.may_severity ? std::string(severity_name(*c.may_severity)) : std::string("off"));
     root.insert("analysis", std::move(analysis));
     auto quoted = [](const std::string& s) {
         std::ostringstream q;

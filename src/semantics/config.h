@@ -54,6 +54,10 @@ struct Config {
     // [rules] ID = "error" | "warning" | "info" | "off"
     std::map<std::string, std::optional<Severity>> rule_severity;
     bool explain_unknown = false;        // [analysis] explain-unknown: enable OSP303-style notes
+    // [analysis] may-findings: the severity of a finding that holds on some
+    // paths only ("G91 may be in effect here"); nullopt: "off", none reported.
+    // Never above the rule's own severity.
+    std::optional<Severity> may_severity = Severity::Warning;
     Catalog catalog = Catalog::builtin();  // shipped macros + [macro.NAME] + [codes]
     std::vector<PathPattern> exclude;    // `exclude`: what a directory walk skips (inherited ones first)
     std::vector<PerPathRules> per_path;  // `[[per-path]]`, inherited ones first

@@ -1,5 +1,7 @@
 #include "semantics/modal.h"
 
+#include <tuple>
+
 #include <fmt/format.h>
 
 namespace osplint {
@@ -61,10 +63,27 @@ void merge_cycle(Val<std::optional<ActiveCycle>>& a, const Val<std::optional<Act
 
 }  // namespace
 
+bool Origin::before(const Origin& o) const {
+    auto key = [](const Origin& x) {
+        return std::tuple(x.line, x.range.begin, x.range.end, x.via_line, x.via_range.begin, x.via_range.end);
+    };
+    return key(*this) < key(o);
+}
+
+void ModalState::merge_jump(const ModalState& o, uint32_t line, ByteRange range) {
+    Origins<Distance, 2> from = o.distance_from;
+    from.jumped(line, range);
+    const Origins<Distance, 2> own = distance_from;
+    merge(o);
+    distance_from = own;
+    distance_from.merge(from);
+}
+
 void ModalState::merge(const ModalState& o) {
     if (modes_from != o.modes_from) modes_from = nullptr;
     plane.merge(o.plane);
     distance.merge(o.distance);
+    distance_from.merge(o.distance_from);
     units.merge(o.units);
     motion.merge(o.motion);
     work_offset.merge(o.work_offset);

@@ -6,6 +6,7 @@
 // unknown. Rules never fire on an unknown field.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -41,6 +42,51 @@ struct Val {
         if (!o.known || !(value == o.value)) *this = Val{};
     }
     friend bool operator==(const Val&, const Val&) = default;
+};
+
+// Where the values a mode field may hold come from, for "may" findings: per
+// value, the block that set it last on some path (its line and the range of
+// the word; line 0: the initial state) and the last jump that path took since
+// (line 0: none). A value with no origin is not set on any path known to reach
+// here. When paths disagree the field itself is unknown, and its origins say
+// which values it may hold and how each got here. Of two origins of one value
+// the one set earlier wins (then the earlier jump): the merge is a join, so
+// every order of merging reaches the same state.
+struct Origin {
+    bool present = false;
+    uint32_t line = 0;
+    ByteRange range;
+    uint32_t via_line = 0;
+    ByteRange via_range;
+    friend bool operator==(const Origin&, const Origin&) = default;
+    bool before(const Origin& o) const;
+};
+
+template <class E, size_t N>
+struct Origins {
+    std::array<Origin, N> of{};
+    void set(E v, uint32_t line, ByteRange range) {
+        of = {};
+        of[static_cast<size_t>(v)] = Origin{true, line, range, 0, {}};
+    }
+    void clear() { of = {}; }
+    // The values flow along a jump (the block at `line`, its jump at `range`).
+    void jumped(uint32_t line, ByteRange range) {
+        for (auto& o : of)
+            if (o.present) {
+                o.via_line = line;
+                o.via_range = range;
+            }
+    }
+    void merge(const Origins& x) {
+        for (size_t k = 0; k < N; ++k)
+            if (x.of[k].present && (!of[k].present || x.of[k].before(of[k]))) of[k] = x.of[k];
+    }
+    const Origin* find(E v) const {
+        const Origin& o = of[static_cast<size_t>(v)];
+        return o.present ? &o : nullptr;
+    }
+    friend bool operator==(const Origins&, const Origins&) = default;
 };
 
 enum class Units : uint8_t { Mm, Inch };
@@ -102,6 +148,7 @@ struct ModalState {
     // (analyzer.h); a default-constructed state has every field unknown.
     Val<Plane> plane;
     Val<Distance> distance;
+    Origins<Distance, 2> distance_from;  // where G90 / G91 were set (for "may" findings)
     Val<Units> units;
     Val<int> motion;  // 0, 1, 2, 3 or 60 (G60 is in the interpolation group on OSP)
     Val<double> work_offset;             // G15 H
@@ -147,6 +194,12 @@ struct ModalState {
     // field when both sides have the same cycle (same code and macro), so that
     // "a G81 is modal" stays known when the paths disagree only on its R or Z.
     void merge(const ModalState& o);
+    // The merge of a state that flows along a jump: the GOTO, IF, WHILE or
+    // END of the block at `line` (`range`: its flow statements). The origins
+    // that `o` brings are marked as having come through it.
+    void merge_jump(const ModalState& o, uint32_t line, ByteRange range);
+    // This state flows along such a jump.
+    void jumped(uint32_t line, ByteRange range) { distance_from.jumped(line, range); }
     friend bool operator==(const ModalState&, const ModalState&) = default;
 
     Val<double> axis(char a) const {

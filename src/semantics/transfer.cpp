@@ -72,6 +72,7 @@ ModalState initial_state(const Config& config, bool subprogram) {
     s.plane = Val<Plane>::of(config.plane);
     s.units = Val<Units>::of(config.units);
     s.distance = Val<Distance>::of(config.distance);
+    s.distance_from.set(config.distance, 0, {});
     s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
     s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
     s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
@@ -226,6 +227,14 @@ void end_fixed_cycle(const Block& b, ModalState& s) {
     if (!s.return_level.is(0)) s.return_level = Val<int>{};
 }
 
+// The first G word of the block that commands `code` (an empty range when the
+// code comes from an expression).
+ByteRange g_word_range(const Block& b, int code) {
+    for (const auto& w : b.words)
+        if (w.address == "G" && w.number && *w.number == code) return w.range;
+    return {};
+}
+
 // The G codes and the modes they set. Returns whether the block leaves the
 // tool-tip position unknown (a new coordinate system, a home return, ...).
 bool apply_g_codes(const BlockFacts& f, ModalState& s) {
@@ -239,8 +248,12 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
             case 19: s.plane = Val<Plane>::of(Plane::G19); break;
             case 20: s.units = Val<Units>::of(Units::Inch); break;
             case 21: s.units = Val<Units>::of(Units::Mm); break;
-            case 90: s.distance = Val<Distance>::of(Distance::Absolute); break;
-            case 91: s.distance = Val<Distance>::of(Distance::Incremental); break;
+            case 90: case 91: {
+                const Distance d = c == 90 ? Distance::Absolute : Distance::Incremental;
+                s.distance = Val<Distance>::of(d);
+                s.distance_from.set(d, f.b.line, g_word_range(f.b, c));
+                break;
+            }
             case 98: s.cycle_return = Val<CycleReturn>::of(CycleReturn::Initial); break;
             case 99: s.cycle_return = Val<CycleReturn>::of(CycleReturn::R); break;
             case 40: case 41: case 42: s.cutter_comp = Val<int>::of(c); break;
@@ -265,6 +278,7 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
         s.modes_from = nullptr;
         s.plane = Val<Plane>{};
         s.distance = Val<Distance>{};
+        s.distance_from.clear();
         s.units = Val<Units>{};
         s.motion = Val<int>{};
         s.cycle_return = Val<CycleReturn>{};
@@ -654,6 +668,12 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     apply_tool_position(f, cycle_code, positions_unknown, s);
     apply_statements(f, catalog, s);
     apply_assignments(f, s);
+    // G90/G91 set by a user subprogram this block calls: set at the call.
+    if (call && call->summary) {
+        const ModeEffect<Distance>& d = call->summary->distance;
+        if (d.kind == ModeEffect<Distance>::Kind::Set) s.distance_from.set(d.value, b.line, call->name_range);
+        else if (d.kind == ModeEffect<Distance>::Kind::Unknown) s.distance_from.clear();
+    }
 }
 
 bool is_plain_move_block(const Block& b) {

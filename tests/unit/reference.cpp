@@ -207,17 +207,17 @@ FileResult reference_check(const std::string& path, std::string_view text, const
             seen_main = true;
         }
 
-        // Successors of every block.
-        std::vector<std::vector<uint32_t>> succ(n);
+        // Successors of every block (whether the edge is a jump).
+        std::vector<std::vector<std::pair<uint32_t, bool>>> succ(n);
         std::vector<bool> exits(n, false);
         for (uint32_t i = 0; i < n; ++i) {
             const Block& b = blocks[i];
             const BlockEdges e = block_edges(b, b.line_start, next_line_start(file, b), flow);
             for (std::string_view name : e.jumps)
                 if (auto it = labels.find(std::string(name)); it != labels.end())
-                    for (uint32_t t : it->second) succ[i].push_back(t);
-            for (uint32_t off : e.targets) succ[i].push_back(by_offset.at(off));
-            if (e.falls_through && i + 1 < n) succ[i].push_back(i + 1);
+                    for (uint32_t t : it->second) succ[i].push_back({t, true});
+            for (uint32_t off : e.targets) succ[i].push_back({by_offset.at(off), true});
+            if (e.falls_through && i + 1 < n) succ[i].push_back({i + 1, false});
             exits[i] = e.exits;
         }
 
@@ -244,14 +244,16 @@ FileResult reference_check(const std::string& path, std::string_view text, const
                 if (!final_state) final_state = out;
                 else final_state->merge(out);
             }
-            for (uint32_t t : succ[i]) {
+            for (const auto& [t, jump] : succ[i]) {
                 bool changed;
                 if (!in[t]) {
                     in[t] = out;
+                    if (jump) in[t]->jumped(b.line, jump_range(b));
                     changed = true;
                 } else {
                     ModalState merged = *in[t];
-                    merged.merge(out);
+                    if (jump) merged.merge_jump(out, b.line, jump_range(b));
+                    else merged.merge(out);
                     changed = !(merged == *in[t]);
                     in[t] = std::move(merged);
                 }

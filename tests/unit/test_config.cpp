@@ -58,6 +58,19 @@ explain-unknown = true
     CHECK(c.severity_of("OSP104", Severity::Error, true) == Severity::Error);
 }
 
+TEST_CASE("[analysis] may-findings: a severity or off; warning by default") {
+    CHECK(Config{}.may_severity == Severity::Warning);
+    CHECK(parse_config("[analysis]\nmay-findings = \"error\"\n", "osplint.toml").may_severity == Severity::Error);
+    CHECK(parse_config("[analysis]\nmay-findings = \"info\"\n", "osplint.toml").may_severity == Severity::Info);
+    CHECK_FALSE(parse_config("[analysis]\nmay-findings = \"off\"\n", "osplint.toml").may_severity.has_value());
+    for (const char* bad : {"may-findings = \"sometimes\"", "may-findings = true", "may-finding = \"off\""}) {
+        CAPTURE(bad);
+        CHECK_THROWS_AS(parse_config(std::string("[analysis]\n") + bad + "\n", "osplint.toml"), ConfigError);
+    }
+    CHECK(dump_config(parse_config("[analysis]\nmay-findings = \"off\"\n", "osplint.toml")).find(
+              "may-findings = 'off'") != std::string::npos);
+}
+
 TEST_CASE("defaults: mm, G17, G90, G114 and M204 registered") {
     Config c;
     CHECK(c.units == Units::Mm);

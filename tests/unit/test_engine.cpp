@@ -688,3 +688,48 @@ TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh 
     MESSAGE(resumed << " of " << runs << " analyses resumed from a checkpoint");
     CHECK(resumed > runs / 4);
 }
+
+TEST_CASE("may findings: a mode some paths bring, at the severity of [analysis] may-findings") {
+    // The IF jumps back with G91 in effect: the first pass calls OKYLX in G90,
+    // the later ones in G91.
+    const std::string loop = "O1\nG90\nVC1=0\nN10 CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nG91\nG0 X20.\n"
+                             "VC1=VC1+1\nIF [VC1 LT 3] N10\nG90\nM30\n";
+    auto osp109 = [](const FileResult& r) {
+        std::vector<Diagnostic> out;
+        for (const auto& d : r.diagnostics)
+            if (d.rule == "OSP109") out.push_back(d);
+        return out;
+    };
+    Config config;
+    compare_checks("may.min", loop, config);
+    auto found = osp109(check_text("may.min", loop, config));
+    REQUIRE(found.size() == 1);
+    CHECK(found[0].severity == Severity::Warning);
+    CHECK(found[0].range.start.line == 4);
+    CHECK(found[0].message.find("may run in G91 mode") != std::string::npos);
+    CHECK(found[0].message.find("line 5") != std::string::npos);
+    CHECK(found[0].message.find("jump at line 8") != std::string::npos);
+    REQUIRE(found[0].notes.size() >= 2);
+    REQUIRE(found[0].notes[0].range);
+    CHECK(found[0].notes[0].range->start.line == 5);
+    REQUIRE(found[0].notes[1].range);
+    CHECK(found[0].notes[1].range->start.line == 8);
+
+    // Off: nothing; "error" cannot raise it above the rule's own severity.
+    config.may_severity = std::nullopt;
+    CHECK(osp109(check_text("may.min", loop, config)).empty());
+    config.may_severity = Severity::Error;
+    config.rule_severity["OSP109"] = Severity::Info;
+    found = osp109(check_text("may.min", loop, config));
+    REQUIRE(found.size() == 1);
+    CHECK(found[0].severity == Severity::Info);
+
+    // G90 restored before the jump back: every path is G90.
+    const std::string restored = "O1\nG90\nVC1=0\nN10 CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nG91\n"
+                                 "G0 X20.\nG90\nVC1=VC1+1\nIF [VC1 LT 3] N10\nM30\n";
+    CHECK(osp109(check_text("may.min", restored, Config{})).empty());
+    // An unknown G code, not a path, makes the mode unknown: silent.
+    CHECK(osp109(check_text("may.min", "O1\nG=VC5\nCALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nM30\n",
+                            Config{}))
+              .empty());
+}
