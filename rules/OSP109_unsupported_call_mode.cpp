@@ -75,16 +75,12 @@ private:
     // The paths that reach the call disagree on G90/G91, and on one of them
     // G91 is in effect: a loop's jump or a branch brings it.
     static void report_may_g91(RuleContext& ctx, const MacroSpec& spec, const MacroCall& c, const Origin& g91) {
-        std::string where = g91.line ? "G91 is set at line " + std::to_string(g91.line) : "G91 is in effect at the start";
-        if (g91.via_line) where += " and reaches this call through the jump at line " + std::to_string(g91.via_line);
         Diagnostic* d = report_may(ctx, kMeta, c.name_range,
-                                   spec.name + " may run in G91 mode here: " + where +
+                                   spec.name + " may run in G91 mode here: " + macro::may_path(g91, "G91", "this call") +
                                        ", while other paths reach it in G90; under G91 no alarm results but the slot "
                                        "is cut at shifted positions; command G90 before the call");
         if (!d) return;
-        if (g91.line && !g91.range.empty()) d->notes.push_back({"G91 is set here", ctx.resolve(g91.range)});
-        if (g91.via_line && !g91.via_range.empty())
-            d->notes.push_back({"the path with G91 jumps here", ctx.resolve(g91.via_range)});
+        macro::add_may_notes(ctx, *d, g91, "G91");
         d->notes.push_back({std::string(kG91Quote) + macro::source_ref(spec, "") + ")", std::nullopt});
     }
 };

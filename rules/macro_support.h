@@ -140,6 +140,20 @@ inline std::string mode_from_subprogram(const ModalState& s, std::string_view mo
            std::to_string(sum->line) + "), which " + sum->describe();
 }
 
+// For a "may" finding: how a mode some paths bring gets here. "G91 is set at
+// line 7 and reaches this call through the jump at line 10".
+inline std::string may_path(const Origin& o, std::string_view mode, std::string_view here) {
+    std::string s = std::string(mode) + (o.line ? " is set at line " + std::to_string(o.line) : " is in effect at the start");
+    if (o.via_line) s += " and reaches " + std::string(here) + " through the jump at line " + std::to_string(o.via_line);
+    return s;
+}
+// Its notes: the block that sets the mode, and the jump that brings it.
+inline void add_may_notes(RuleContext& ctx, Diagnostic& d, const Origin& o, std::string_view mode) {
+    if (o.line && !o.range.empty()) d.notes.push_back({std::string(mode) + " is set here", ctx.resolve(o.range)});
+    if (o.via_line && !o.via_range.empty())
+        d.notes.push_back({"the path with " + std::string(mode) + " jumps here", ctx.resolve(o.via_range)});
+}
+
 inline int plane_number(Plane p) { return p == Plane::G17 ? 17 : p == Plane::G18 ? 18 : 19; }
 
 // Levenshtein distance, for "did you mean" suggestions.

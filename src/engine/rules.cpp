@@ -46,7 +46,7 @@ std::string rule_doc_header(const RuleMeta& m) {
         h += "\nFix available (unsafe: it changes what the machine does; `--fix --unsafe-fixes` applies it, editors "
              "offer it).";
     if (m.reports_may)
-        h += "\nAlso reports what may happen on some paths only, as a warning (`[analysis] may-findings`).";
+        h += "\nAlso reports what may happen on some paths only ([may findings](README.md#what-holds-on-some-paths-only-may-findings)).";
     if (!m.suppressible) h += "\nCannot be suppressed by a directive.";
     if (!m.selected_by_prefix)
         h += " `--ignore` and ID prefixes leave it on; `[rules] " + id + " = \"off\"` turns it off.";

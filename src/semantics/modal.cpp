@@ -71,12 +71,18 @@ bool Origin::before(const Origin& o) const {
 }
 
 void ModalState::merge_jump(const ModalState& o, uint32_t line, ByteRange range) {
-    Origins<Distance, 2> from = o.distance_from;
-    from.jumped(line, range);
-    const Origins<Distance, 2> own = distance_from;
+    // As merge, but with o's origins marked by the jump.
+    auto distance = o.distance_from;
+    auto units = o.units_from;
+    distance.jumped(line, range);
+    units.jumped(line, range);
+    const auto own_distance = distance_from;
+    const auto own_units = units_from;
     merge(o);
-    distance_from = own;
-    distance_from.merge(from);
+    distance_from = own_distance;
+    distance_from.merge(distance);
+    units_from = own_units;
+    units_from.merge(units);
 }
 
 void ModalState::merge(const ModalState& o) {
@@ -85,6 +91,7 @@ void ModalState::merge(const ModalState& o) {
     distance.merge(o.distance);
     distance_from.merge(o.distance_from);
     units.merge(o.units);
+    units_from.merge(o.units_from);
     motion.merge(o.motion);
     work_offset.merge(o.work_offset);
     length_offset.merge(o.length_offset);

@@ -150,6 +150,7 @@ struct ModalState {
     Val<Distance> distance;
     Origins<Distance, 2> distance_from;  // where G90 / G91 were set (for "may" findings)
     Val<Units> units;
+    Origins<Units, 2> units_from;        // where G21 / G20 were set (for "may" findings)
     Val<int> motion;  // 0, 1, 2, 3 or 60 (G60 is in the interpolation group on OSP)
     Val<double> work_offset;             // G15 H
     Val<bool> length_offset;             // G56 active (true) / G53 cancelled (false)
@@ -199,7 +200,10 @@ struct ModalState {
     // that `o` brings are marked as having come through it.
     void merge_jump(const ModalState& o, uint32_t line, ByteRange range);
     // This state flows along such a jump.
-    void jumped(uint32_t line, ByteRange range) { distance_from.jumped(line, range); }
+    void jumped(uint32_t line, ByteRange range) {
+        distance_from.jumped(line, range);
+        units_from.jumped(line, range);
+    }
     friend bool operator==(const ModalState&, const ModalState&) = default;
 
     Val<double> axis(char a) const {

@@ -73,6 +73,7 @@ ModalState initial_state(const Config& config, bool subprogram) {
     s.units = Val<Units>::of(config.units);
     s.distance = Val<Distance>::of(config.distance);
     s.distance_from.set(config.distance, 0, {});
+    s.units_from.set(config.units, 0, {});
     s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
     s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
     s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
@@ -246,8 +247,12 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
             case 17: s.plane = Val<Plane>::of(Plane::G17); break;
             case 18: s.plane = Val<Plane>::of(Plane::G18); break;
             case 19: s.plane = Val<Plane>::of(Plane::G19); break;
-            case 20: s.units = Val<Units>::of(Units::Inch); break;
-            case 21: s.units = Val<Units>::of(Units::Mm); break;
+            case 20: case 21: {
+                const Units u = c == 20 ? Units::Inch : Units::Mm;
+                s.units = Val<Units>::of(u);
+                s.units_from.set(u, f.b.line, g_word_range(f.b, c));
+                break;
+            }
             case 90: case 91: {
                 const Distance d = c == 90 ? Distance::Absolute : Distance::Incremental;
                 s.distance = Val<Distance>::of(d);
@@ -280,6 +285,7 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
         s.distance = Val<Distance>{};
         s.distance_from.clear();
         s.units = Val<Units>{};
+        s.units_from.clear();
         s.motion = Val<int>{};
         s.cycle_return = Val<CycleReturn>{};
         s.cutter_comp = Val<int>{};
@@ -668,11 +674,15 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     apply_tool_position(f, cycle_code, positions_unknown, s);
     apply_statements(f, catalog, s);
     apply_assignments(f, s);
-    // G90/G91 set by a user subprogram this block calls: set at the call.
+    // G90/G91 and G20/G21 set by a user subprogram this block calls: set at the call.
     if (call && call->summary) {
-        const ModeEffect<Distance>& d = call->summary->distance;
-        if (d.kind == ModeEffect<Distance>::Kind::Set) s.distance_from.set(d.value, b.line, call->name_range);
-        else if (d.kind == ModeEffect<Distance>::Kind::Unknown) s.distance_from.clear();
+        auto origin = [&](const auto& effect, auto& origins) {
+            using K = typename std::decay_t<decltype(effect)>::Kind;
+            if (effect.kind == K::Set) origins.set(effect.value, b.line, call->name_range);
+            else if (effect.kind == K::Unknown) origins.clear();
+        };
+        origin(call->summary->distance, s.distance_from);
+        origin(call->summary->units, s.units_from);
     }
 }
 
