@@ -1,5 +1,6 @@
 // OSP201 g60-with-ncyl: G60 modal and NCYL on one block where the back-counterbore
 // or long-slot keyway macros are in use (the manuals forbid the combination).
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,7 @@ constexpr RuleMeta kMeta{
     .severity = Severity::Error,
     .summary = "G60 and NCYL together in a program using the OG87*/OZAGR/OM100/OKYOX macros",
     .category = RuleCategory::WrongMotion,
+    .reports_may = true,
 };
 
 // Where the macro's manual forbids the combination.
@@ -40,13 +42,20 @@ public:
             user_range_ = macro::call_range(*c, v.block);
         }
         const Statement* ncyl = v.block.statement(StmtKind::Ncyl);
-        if (!ncyl || !v.after.motion.is(60)) return;
+        if (!ncyl) return;
+        // G60 on every path, or (a "may" finding) on some of them only.
+        std::optional<Origin> may;
+        if (!v.after.motion.is(60)) {
+            if (v.after.motion.known) return;
+            const Origin* g60 = v.after.g60_from.find(true);
+            if (!g60) return;
+            may = *g60;
+        }
         if (const ActiveModin* m = active_modin(v.before)) {
             const MacroSpec* spec = ctx.catalog().find(m->macro);
             if (spec && spec->has(Hazard::G60NcylCollision)) {
-                report(ctx, ncyl->keyword_range, *spec,
-                       "MODIN " + spec->name + " is active (line " + std::to_string(m->line) + ")", std::nullopt,
-                       macro::mode_from_subprogram(v.after, "G60"));
+                report(ctx, {ncyl->keyword_range, macro::mode_from_subprogram(v.after, "G60"), may}, *spec,
+                       "MODIN " + spec->name + " is active (line " + std::to_string(m->line) + ")", std::nullopt);
                 return;
             }
         }
@@ -55,32 +64,47 @@ public:
         // is the control's own business: only blocks known to be outside any
         // MODIN of such a macro and outside any cycle are kept.
         if (!v.before.modin.known || !v.after.cycle.known || v.after.cycle.value) return;
-        pending_.push_back({ncyl->keyword_range, macro::mode_from_subprogram(v.after, "G60")});
+        pending_.push_back({ncyl->keyword_range, macro::mode_from_subprogram(v.after, "G60"), may});
     }
 
     void end_program(RuleContext& ctx, const ProgramView&) override {
         if (!user_) return;
-        for (const auto& [r, from] : pending_)
-            report(ctx, r, *user_, "this program uses " + user_->name, user_range_, from);
+        for (const auto& p : pending_) report(ctx, p, *user_, "this program uses " + user_->name, user_range_);
     }
 
 private:
-    void report(RuleContext& ctx, ByteRange where, const MacroSpec& spec, const std::string& context,
-                std::optional<ByteRange> call, const std::string& from) {
+    struct Ncyl {
+        ByteRange range;            // the NCYL keyword
+        std::string from;           // where G60 came from, when a subprogram set it
+        std::optional<Origin> may;  // G60 on some paths only: where it is set
+    };
+
+    void report(RuleContext& ctx, const Ncyl& n, const MacroSpec& spec, const std::string& context,
+                std::optional<ByteRange> call) {
         std::string src = forbidding_source(ctx.catalog(), spec);
-        auto& d = ctx.report(kMeta, where,
-                             "G60 is modal and NCYL is on this block while " + context +
-                                 ": under G60 the control ignores NCYL, so the cycle runs here and the tool hits "
-                                 "the workpiece (" + src + "); end G60 with G0 or G1 before this block, or drop "
-                                 "NCYL and position without the macro");
+        const std::string consequence = ": under G60 the control ignores NCYL, so the cycle runs here and the tool "
+                                        "hits the workpiece (" + src + "); end G60 with G0 or G1 before this block, "
+                                        "or drop NCYL and position without the macro";
+        Diagnostic* found = nullptr;
+        if (n.may) {
+            found = report_may(ctx, kMeta, n.range,
+                               "G60 may be modal where NCYL is on this block while " + context + " (" +
+                                   macro::may_path(*n.may, "G60", "this block") + ", while other paths end it)" +
+                                   consequence);
+        } else {
+            found = &ctx.report(kMeta, n.range, "G60 is modal and NCYL is on this block while " + context + consequence);
+        }
+        if (!found) return;
+        Diagnostic& d = *found;
+        if (n.may) macro::add_may_notes(ctx, d, *n.may, "G60");
         d.notes.push_back({"\"While using these programs, never use G60 together with NCYL. During G60, NCYL is "
                            "ignored and the tool collides with the workpiece.\" (" + src + ")",
                            std::nullopt});
         if (call) d.notes.push_back({spec.name + " is used here", ctx.resolve(*call)});
-        if (!from.empty()) d.notes.push_back({from, std::nullopt});
+        if (!n.from.empty()) d.notes.push_back({n.from, std::nullopt});
     }
 
-    std::vector<std::pair<ByteRange, std::string>> pending_;  // NCYL, and where G60 came from
+    std::vector<Ncyl> pending_;
     const MacroSpec* user_ = nullptr;
     ByteRange user_range_;
 };

@@ -74,15 +74,20 @@ void ModalState::merge_jump(const ModalState& o, uint32_t line, ByteRange range)
     // As merge, but with o's origins marked by the jump.
     auto distance = o.distance_from;
     auto units = o.units_from;
+    auto g60 = o.g60_from;
     distance.jumped(line, range);
     units.jumped(line, range);
+    g60.jumped(line, range);
     const auto own_distance = distance_from;
     const auto own_units = units_from;
+    const auto own_g60 = g60_from;
     merge(o);
     distance_from = own_distance;
     distance_from.merge(distance);
     units_from = own_units;
     units_from.merge(units);
+    g60_from = own_g60;
+    g60_from.merge(g60);
 }
 
 void ModalState::merge(const ModalState& o) {
@@ -93,6 +98,7 @@ void ModalState::merge(const ModalState& o) {
     units.merge(o.units);
     units_from.merge(o.units_from);
     motion.merge(o.motion);
+    g60_from.merge(o.g60_from);
     work_offset.merge(o.work_offset);
     length_offset.merge(o.length_offset);
     length_offset_h.merge(o.length_offset_h);

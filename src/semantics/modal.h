@@ -152,6 +152,7 @@ struct ModalState {
     Val<Units> units;
     Origins<Units, 2> units_from;        // where G21 / G20 were set (for "may" findings)
     Val<int> motion;  // 0, 1, 2, 3 or 60 (G60 is in the interpolation group on OSP)
+    Origins<bool, 2> g60_from;  // where G60 ([true]) or G0..G3 ([false]) was set (for "may" findings)
     Val<double> work_offset;             // G15 H
     Val<bool> length_offset;             // G56 active (true) / G53 cancelled (false)
     Val<double> length_offset_h;         // H of G56
@@ -203,6 +204,7 @@ struct ModalState {
     void jumped(uint32_t line, ByteRange range) {
         distance_from.jumped(line, range);
         units_from.jumped(line, range);
+        g60_from.jumped(line, range);
     }
     friend bool operator==(const ModalState&, const ModalState&) = default;
 

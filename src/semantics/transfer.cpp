@@ -160,6 +160,8 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
     if (call && call->summary) {
         s.motion = motion;
         apply_summary(*call->summary, s);
+    } else {
+        s.g60_from.clear();
     }
     s.spindle = Val<int>{};
     s.spindle_stopped_by = Val<uint32_t>{};
@@ -228,12 +230,13 @@ void end_fixed_cycle(const Block& b, ModalState& s) {
     if (!s.return_level.is(0)) s.return_level = Val<int>{};
 }
 
-// The first G word of the block that commands `code` (an empty range when the
-// code comes from an expression).
+// The last G word of the block that commands `code`, the one whose mode
+// stays (an empty range when the code comes from an expression).
 ByteRange g_word_range(const Block& b, int code) {
+    ByteRange r;
     for (const auto& w : b.words)
-        if (w.address == "G" && w.number && *w.number == code) return w.range;
-    return {};
+        if (w.address == "G" && w.number && *w.number == code) r = w.range;
+    return r;
 }
 
 // The G codes and the modes they set. Returns whether the block leaves the
@@ -243,7 +246,10 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
     for (int c : f.g) {
         if ((c >= 17 && c <= 21) || c == 60 || c == 90 || c == 91) s.modes_from = nullptr;  // set here, in sight
         switch (c) {
-            case 0: case 1: case 2: case 3: case 60: s.motion = Val<int>::of(c); break;
+            case 0: case 1: case 2: case 3: case 60:
+                s.motion = Val<int>::of(c);
+                s.g60_from.set(c == 60, f.b.line, g_word_range(f.b, c));
+                break;
             case 17: s.plane = Val<Plane>::of(Plane::G17); break;
             case 18: s.plane = Val<Plane>::of(Plane::G18); break;
             case 19: s.plane = Val<Plane>::of(Plane::G19); break;
@@ -286,6 +292,7 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
         s.distance_from.clear();
         s.units = Val<Units>{};
         s.units_from.clear();
+        s.g60_from.clear();
         s.motion = Val<int>{};
         s.cycle_return = Val<CycleReturn>{};
         s.cutter_comp = Val<int>{};
@@ -683,6 +690,9 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         };
         origin(call->summary->distance, s.distance_from);
         origin(call->summary->units, s.units_from);
+        const ModeEffect<int>& m = call->summary->motion;
+        if (m.kind == ModeEffect<int>::Kind::Set) s.g60_from.set(m.value == 60, b.line, call->name_range);
+        else if (m.kind == ModeEffect<int>::Kind::Unknown) s.g60_from.clear();
     }
 }
 
@@ -723,7 +733,10 @@ void apply_plain_move(const Block& b, ModalState& s) {
         const double v = *w.number;
         int axis = 0;
         switch (w.address[0]) {
-            case 'G': s.motion = Val<int>::of(static_cast<int>(v)); continue;
+            case 'G':
+                s.motion = Val<int>::of(static_cast<int>(v));
+                s.g60_from.set(false, b.line, w.range);
+                continue;
             case 'F': s.feed = Val<double>::of(v); continue;
             case 'X': axis = 0; break;
             case 'Y': axis = 1; break;
