@@ -70,24 +70,27 @@ bool Origin::before(const Origin& o) const {
     return key(*this) < key(o);
 }
 
+namespace {
+template <class O>
+void merge_jumped(O& own, O from, uint32_t line, ByteRange range) {
+    from.jumped(line, range);
+    own.merge(from);
+}
+}  // namespace
+
 void ModalState::merge_jump(const ModalState& o, uint32_t line, ByteRange range) {
-    // As merge, but with o's origins marked by the jump.
-    auto distance = o.distance_from;
-    auto units = o.units_from;
-    auto g60 = o.g60_from;
-    distance.jumped(line, range);
-    units.jumped(line, range);
-    g60.jumped(line, range);
-    const auto own_distance = distance_from;
-    const auto own_units = units_from;
-    const auto own_g60 = g60_from;
+    // As merge, with o's origins marked by the jump: merge takes them unmarked,
+    // so ours are put back and the marked ones merged in.
+    const auto distance = distance_from;
+    const auto units = units_from;
+    const auto g60 = g60_from;
     merge(o);
-    distance_from = own_distance;
-    distance_from.merge(distance);
-    units_from = own_units;
-    units_from.merge(units);
-    g60_from = own_g60;
-    g60_from.merge(g60);
+    distance_from = distance;
+    units_from = units;
+    g60_from = g60;
+    merge_jumped(distance_from, o.distance_from, line, range);
+    merge_jumped(units_from, o.units_from, line, range);
+    merge_jumped(g60_from, o.g60_from, line, range);
 }
 
 void ModalState::merge(const ModalState& o) {

@@ -3,7 +3,10 @@
 // Every field is a `Val<T>`: either known (with a value) or unknown. The state
 // at a block is the merge of the states flowing into it (textual predecessor,
 // every jump to its sequence name, loop back edges); fields that differ become
-// unknown. Rules never fire on an unknown field.
+// unknown. Rules never fire on an unknown field as if it were known; for
+// G90/G91, G20/G21 and G60 the state also keeps where each value the field may
+// hold was set (`Origins`), so that a rule can say what *may* be in effect and
+// on which path.
 #pragma once
 
 #include <array>
