@@ -68,7 +68,7 @@ public:
             return;
         }
         if (spec->g91 == G91Mode::Unsupported && !v.before.distance.known)
-            if (const Origin* g91 = v.before.distance_from.find(Distance::Incremental)) report_may_g91(ctx, *spec, *c, *g91);
+            if (const Origin* g91 = v.before.g91_from.find()) report_may_g91(ctx, *spec, *c, *g91);
     }
 
 private:

@@ -21,7 +21,7 @@ public:
         const MacroSpec* spec = macro::shop_macro(c);
         if (!spec || spec->units != MacroUnits::MmOnly || !macro::is_invocation(*c)) return;
         if (!v.after.units.known) {
-            if (const Origin* g20 = v.after.units_from.find(Units::Inch)) report_may_g20(ctx, *spec, *c, v.block, *g20);
+            if (const Origin* g20 = v.after.g20_from.find()) report_may_g20(ctx, *spec, *c, v.block, *g20);
             return;
         }
         if (!v.after.units.is(Units::Inch)) return;

@@ -23,7 +23,7 @@ public:
         if (c->kind != CallKind::Call && c->kind != CallKind::Modin) return;
         const Origin* may = nullptr;  // G91 on some paths only
         if (!v.before.distance.known) {
-            may = v.before.distance_from.find(Distance::Incremental);
+            may = v.before.g91_from.find();
             if (!may) return;
         } else if (!v.before.distance.is(Distance::Incremental)) {
             return;

@@ -47,7 +47,7 @@ public:
         std::optional<Origin> may;
         if (!v.after.motion.is(60)) {
             if (v.after.motion.known) return;
-            const Origin* g60 = v.after.g60_from.find(true);
+            const Origin* g60 = v.after.g60_from.find();
             if (!g60) return;
             may = *g60;
         }

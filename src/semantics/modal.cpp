@@ -81,15 +81,15 @@ void merge_jumped(O& own, O from, uint32_t line, ByteRange range) {
 void ModalState::merge_jump(const ModalState& o, uint32_t line, ByteRange range) {
     // As merge, with o's origins marked by the jump: merge takes them unmarked,
     // so ours are put back and the marked ones merged in.
-    const auto distance = distance_from;
-    const auto units = units_from;
+    const auto g91 = g91_from;
+    const auto g20 = g20_from;
     const auto g60 = g60_from;
     merge(o);
-    distance_from = distance;
-    units_from = units;
+    g91_from = g91;
+    g20_from = g20;
     g60_from = g60;
-    merge_jumped(distance_from, o.distance_from, line, range);
-    merge_jumped(units_from, o.units_from, line, range);
+    merge_jumped(g91_from, o.g91_from, line, range);
+    merge_jumped(g20_from, o.g20_from, line, range);
     merge_jumped(g60_from, o.g60_from, line, range);
 }
 
@@ -97,9 +97,9 @@ void ModalState::merge(const ModalState& o) {
     if (modes_from != o.modes_from) modes_from = nullptr;
     plane.merge(o.plane);
     distance.merge(o.distance);
-    distance_from.merge(o.distance_from);
+    g91_from.merge(o.g91_from);
     units.merge(o.units);
-    units_from.merge(o.units_from);
+    g20_from.merge(o.g20_from);
     motion.merge(o.motion);
     g60_from.merge(o.g60_from);
     work_offset.merge(o.work_offset);

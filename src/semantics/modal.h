@@ -5,7 +5,7 @@
 // every jump to its sequence name, loop back edges); fields that differ become
 // unknown. Rules never fire on an unknown field as if it were known; for
 // G90/G91, G20/G21 and G60 the state also keeps where each value the field may
-// hold was set (`Origins`), so that a rule can say what *may* be in effect and
+// hold was set (`ModeOrigin`), so that a rule can say what *may* be in effect and
 // on which path.
 #pragma once
 
@@ -47,14 +47,18 @@ struct Val {
     friend bool operator==(const Val&, const Val&) = default;
 };
 
-// Where the values a mode field may hold come from, for "may" findings: per
-// value, the block that set it last on some path (its line and the range of
-// the word; line 0: the initial state) and the last jump that path took since
-// (line 0: none). A value with no origin is not set on any path known to reach
-// here. When paths disagree the field itself is unknown, and its origins say
-// which values it may hold and how each got here. Of two origins of one value
-// the one set earlier wins (then the earlier jump): the merge is a join, so
-// every order of merging reaches the same state.
+enum class Units : uint8_t { Mm, Inch };
+enum class Distance : uint8_t { Absolute, Incremental };  // G90 / G91
+
+// Where a mode that some rules warn about (G91, G20, G60) was set, for "may"
+// findings: the block that set it last on some path that reaches here (its
+// line and the range of the word; line 0: the initial state) and the last jump
+// that path took since (line 0: none). When paths disagree the field itself is
+// unknown, and the origin says that the mode may be in effect and how it got
+// here. Of two origins the one set earlier wins (then the earlier jump): the
+// merge is a join, so every order of merging reaches the same state. Only the
+// warned-about value is kept, so a loop that never sets it converges as fast
+// as without origins.
 struct Origin {
     bool present = false;
     uint32_t line = 0;
@@ -65,35 +69,28 @@ struct Origin {
     bool before(const Origin& o) const;
 };
 
-template <class E, size_t N>
-struct Origins {
-    std::array<Origin, N> of{};
+template <class E, E Tracked>
+struct ModeOrigin {
+    Origin origin;
+    // The mode is set to `v` by the block at `line` (the word at `range`).
     void set(E v, uint32_t line, ByteRange range) {
-        of = {};
-        of[static_cast<size_t>(v)] = Origin{true, line, range, 0, {}};
+        origin = v == Tracked ? Origin{true, line, range, 0, {}} : Origin{};
     }
-    void clear() { of = {}; }
-    // The values flow along a jump (the block at `line`, its jump at `range`).
+    void clear() { origin = {}; }
+    // The state flows along a jump (the block at `line`, its jump at `range`).
     void jumped(uint32_t line, ByteRange range) {
-        for (auto& o : of)
-            if (o.present) {
-                o.via_line = line;
-                o.via_range = range;
-            }
+        if (!origin.present) return;
+        origin.via_line = line;
+        origin.via_range = range;
     }
-    void merge(const Origins& x) {
-        for (size_t k = 0; k < N; ++k)
-            if (x.of[k].present && (!of[k].present || x.of[k].before(of[k]))) of[k] = x.of[k];
+    void merge(const ModeOrigin& x) {
+        if (x.origin.present && (!origin.present || x.origin.before(origin))) origin = x.origin;
     }
-    const Origin* find(E v) const {
-        const Origin& o = of[static_cast<size_t>(v)];
-        return o.present ? &o : nullptr;
-    }
-    friend bool operator==(const Origins&, const Origins&) = default;
+    // Where the mode was set on some path, or nullptr: on no path known to reach here.
+    const Origin* find() const { return origin.present ? &origin : nullptr; }
+    friend bool operator==(const ModeOrigin&, const ModeOrigin&) = default;
 };
 
-enum class Units : uint8_t { Mm, Inch };
-enum class Distance : uint8_t { Absolute, Incremental };  // G90 / G91
 enum class Plane : uint8_t { G17, G18, G19 };
 enum class CycleReturn : uint8_t { Initial, R };  // G98 / G99
 
@@ -151,11 +148,11 @@ struct ModalState {
     // (analyzer.h); a default-constructed state has every field unknown.
     Val<Plane> plane;
     Val<Distance> distance;
-    Origins<Distance, 2> distance_from;  // where G90 / G91 were set (for "may" findings)
+    ModeOrigin<Distance, Distance::Incremental> g91_from;  // where G91 was set (for "may" findings)
     Val<Units> units;
-    Origins<Units, 2> units_from;        // where G21 / G20 were set (for "may" findings)
+    ModeOrigin<Units, Units::Inch> g20_from;                 // where G20 was set (for "may" findings)
     Val<int> motion;  // 0, 1, 2, 3 or 60 (G60 is in the interpolation group on OSP)
-    Origins<bool, 2> g60_from;  // where G60 ([true]) or G0..G3 ([false]) was set (for "may" findings)
+    ModeOrigin<bool, true> g60_from;  // where G60 was set (set(false): G0..G3) (for "may" findings)
     Val<double> work_offset;             // G15 H
     Val<bool> length_offset;             // G56 active (true) / G53 cancelled (false)
     Val<double> length_offset_h;         // H of G56
@@ -205,8 +202,8 @@ struct ModalState {
     void merge_jump(const ModalState& o, uint32_t line, ByteRange range);
     // This state flows along such a jump.
     void jumped(uint32_t line, ByteRange range) {
-        distance_from.jumped(line, range);
-        units_from.jumped(line, range);
+        g91_from.jumped(line, range);
+        g20_from.jumped(line, range);
         g60_from.jumped(line, range);
     }
     friend bool operator==(const ModalState&, const ModalState&) = default;

@@ -72,8 +72,8 @@ ModalState initial_state(const Config& config, bool subprogram) {
     s.plane = Val<Plane>::of(config.plane);
     s.units = Val<Units>::of(config.units);
     s.distance = Val<Distance>::of(config.distance);
-    s.distance_from.set(config.distance, 0, {});
-    s.units_from.set(config.units, 0, {});
+    s.g91_from.set(config.distance, 0, {});
+    s.g20_from.set(config.units, 0, {});
     s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
     s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
     s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
@@ -256,13 +256,13 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
             case 20: case 21: {
                 const Units u = c == 20 ? Units::Inch : Units::Mm;
                 s.units = Val<Units>::of(u);
-                s.units_from.set(u, f.b.line, g_word_range(f.b, c));
+                s.g20_from.set(u, f.b.line, g_word_range(f.b, c));
                 break;
             }
             case 90: case 91: {
                 const Distance d = c == 90 ? Distance::Absolute : Distance::Incremental;
                 s.distance = Val<Distance>::of(d);
-                s.distance_from.set(d, f.b.line, g_word_range(f.b, c));
+                s.g91_from.set(d, f.b.line, g_word_range(f.b, c));
                 break;
             }
             case 98: s.cycle_return = Val<CycleReturn>::of(CycleReturn::Initial); break;
@@ -289,9 +289,9 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
         s.modes_from = nullptr;
         s.plane = Val<Plane>{};
         s.distance = Val<Distance>{};
-        s.distance_from.clear();
+        s.g91_from.clear();
         s.units = Val<Units>{};
-        s.units_from.clear();
+        s.g20_from.clear();
         s.g60_from.clear();
         s.motion = Val<int>{};
         s.cycle_return = Val<CycleReturn>{};
@@ -688,8 +688,8 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
             if (effect.kind == K::Set) origins.set(effect.value, b.line, call->name_range);
             else if (effect.kind == K::Unknown) origins.clear();
         };
-        origin(call->summary->distance, s.distance_from);
-        origin(call->summary->units, s.units_from);
+        origin(call->summary->distance, s.g91_from);
+        origin(call->summary->units, s.g20_from);
         const ModeEffect<int>& m = call->summary->motion;
         if (m.kind == ModeEffect<int>::Kind::Set) s.g60_from.set(m.value == 60, b.line, call->name_range);
         else if (m.kind == ModeEffect<int>::Kind::Unknown) s.g60_from.clear();
