@@ -75,6 +75,10 @@ struct FrozenWalk {
     uint32_t line = 0;
     uint64_t diagnostics = 0;
     uint64_t suppressed = 0;
+    // The furthest byte a finding delivered so far points at (its notes, its
+    // fixes, the directive that silenced it): an edit before it would leave
+    // the findings the caller keeps pointing at text that moved.
+    uint32_t reach = 0;
     bool seen_main = false;
     bool subprogram = false;
     Program program_info;
@@ -224,6 +228,8 @@ private:
     uint64_t next_checkpoint_ = 0;
     uint64_t delivered_diagnostics_ = 0;
     uint64_t delivered_suppressed_ = 0;
+    uint32_t delivered_reach_ = 0;
+    void extend_reach(const Diagnostic& d);
 
     // --- the current program
     size_t program_index_ = 0;
@@ -462,6 +468,7 @@ void Walk::take_checkpoint() {
     f->line = main_.next_line();
     f->diagnostics = delivered_diagnostics_;
     f->suppressed = delivered_suppressed_;
+    f->reach = delivered_reach_;
     f->seen_main = seen_main_;
     f->subprogram = subprogram_;
     f->program_info = program_;
@@ -556,7 +563,7 @@ bool Walk::resume_from_checkpoints() {
         if (f.config != &config_ || f.only_rules != options_.only_rules || f.run_rules != options_.run_rules ||
             f.folder.has_value() != folder_.enabled() || f.occurrences.has_value() != fingerprints_ || !c->outline)
             break;
-        if (f.offset >= e.prefix || f.program >= outline_.programs.size() ||
+        if (f.offset >= e.prefix || f.reach > e.prefix || f.program >= outline_.programs.size() ||
             !same_structure(*c->outline, outline_, f.program, e))
             break;
         auto moved_c = std::make_shared<WalkCheckpoint>();
@@ -597,6 +604,7 @@ bool Walk::resume_from_checkpoints() {
     if (f.occurrences) occurrences_ = *f.occurrences;
     delivered_diagnostics_ = f.diagnostics;
     delivered_suppressed_ = f.suppressed;
+    delivered_reach_ = f.reach;
     set_state(f.flowing);
     main_.seek(f.offset, f.line);
     next_checkpoint_ = f.offset + options_.checkpoint_every;
@@ -1073,9 +1081,18 @@ void Walk::flush() {
     verdicts_.clear();
 }
 
+void Walk::extend_reach(const Diagnostic& d) {
+    delivered_reach_ = std::max(delivered_reach_, d.range.bytes.end);
+    for (const Note& n : d.notes)
+        if (n.range) delivered_reach_ = std::max(delivered_reach_, n.range->bytes.end);
+    for (const Fix& f : d.fixes)
+        for (const TextEdit& e : f.edits) delivered_reach_ = std::max(delivered_reach_, e.range.bytes.end);
+}
+
 void Walk::deliver(Diagnostic&& d) {
     if (!speculating_) {
         ++delivered_diagnostics_;
+        extend_reach(d);
         sink_.diagnostic(std::move(d));
     } else if (speculative_.size() < kMaxSpeculativeFindings) {
         speculative_.emplace_back(std::move(d), std::nullopt);
@@ -1087,6 +1104,8 @@ void Walk::deliver(Diagnostic&& d) {
 void Walk::deliver(SuppressedDiagnostic&& s) {
     if (!speculating_) {
         ++delivered_suppressed_;
+        extend_reach(s.diagnostic);
+        if (s.directive) delivered_reach_ = std::max(delivered_reach_, s.directive->bytes.end);
         sink_.suppressed(std::move(s));
     } else if (speculative_.size() < kMaxSpeculativeFindings) {
         speculative_.emplace_back(std::nullopt, std::move(s));
