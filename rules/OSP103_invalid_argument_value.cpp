@@ -80,10 +80,19 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
             case ArgSign::NonZero: if (v == 0) need = "non-zero"; break;
             case ArgSign::Any: break;
         }
-        if (need)
-            ctx.report(kMeta, k.range,
-                       shown + ": " + a.name + " (" + a.meaning + ") of " + spec.name + " must be " + need + " (" +
-                           src + "); the macro stops with an alarm or moves the wrong way");
+        if (!need) continue;
+        auto& d = ctx.report(kMeta, k.range,
+                             shown + ": " + a.name + " (" + a.meaning + ") of " + spec.name + " must be " + need +
+                                 " (" + src + "); the macro stops with an alarm or moves the wrong way");
+        if (a.always_incremental && v <= 0) {
+            std::string note = a.name + " is an amount, always incremental, even under G90: a zero or negative "
+                               "value is often a coordinate written where the amount belongs";
+            // Where the manual gives no sign, the check is a reading the configuration can change.
+            if (spec.kind == SpecKind::FixedCycle && spec.reading("peck-amount-sign"))
+                note += "; the manual gives no sign, and this reading can be changed with `[cycle." + spec.name +
+                        ".arg." + a.name + "] sign = \"any\"`";
+            d.notes.push_back({note, std::nullopt});
+        }
     }
     for (const auto& r : spec.relations) {
         if (is_order_relation(r, spec)) continue;
@@ -140,8 +149,9 @@ public:
         const CycleSpec* cycle = ctx.catalog().find_cycle(v.after.cycle.value->code);
         if (!cycle) return;
         Lookup lookup = [&](const ArgSpec& a) -> Known {
-            const Word* w = v.block.find(a.name);
-            for (size_t i = 0; !w && i < a.aliases.size(); ++i) w = v.block.find(a.aliases[i]);
+            // Not an operand of a hole pattern on the block (`BHC X0 Y0 I50. J0 K6`: its J is an angle).
+            const Word* w = find_address(v.block, a.name);
+            for (size_t i = 0; !w && i < a.aliases.size(); ++i) w = find_address(v.block, a.aliases[i]);
             if (!w) return {};
             std::optional<double> value = w->number;
             if (!value && w->value != kNoExpr) value = ctx.eval(v.block, w->value, v.before);
