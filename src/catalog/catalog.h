@@ -195,6 +195,18 @@ struct CatalogNote {
     std::string source;
 };
 
+// A situation the manual warns about at the call, beyond the arguments'
+// values (OSP116): "PFA omitted: its default is printed as FA/2", "the
+// spindle turns in M4 at the call". `when` holds where it applies; `info`
+// cautions describe a legitimate use worth knowing, the others a likely mistake.
+struct Caution {
+    std::string id;  // a key ("pfa-default"), for the configuration; not shown in messages
+    Condition when;
+    std::string text;
+    std::string source;
+    bool info = false;
+};
+
 // Where the manuals contradict themselves: what they disagree on, what is
 // taken and why. `open` readings can be changed in the configuration.
 struct Reading {
@@ -234,6 +246,7 @@ struct MacroSpec {
     std::vector<Relation> relations;
     std::vector<ActionStep> action;
     std::vector<CatalogNote> notes;
+    std::vector<Caution> cautions;
     std::vector<Reading> readings;
     std::string origin;  // the file that defined it last
 

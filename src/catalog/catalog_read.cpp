@@ -445,6 +445,26 @@ void read_at_least_one(Reader& r, MacroSpec& spec) {
     });
 }
 
+// `cautions`: situations the manual warns about at the call.
+void read_cautions(Reader& r, MacroSpec& spec) {
+    spec.cautions.clear();
+    r.each_table("cautions", [&](Reader& e) {
+        Caution c;
+        if (auto v = e.str("id")) c.id = *v;
+        else e.fail(nullptr, "id", "a caution needs 'id'");
+        c.when = read_condition(e);
+        if (c.when.empty()) e.fail(nullptr, "when", "a caution needs 'when': the situation it warns about");
+        if (auto v = e.str("text")) c.text = *v;
+        else e.fail(nullptr, "text", "a caution needs 'text'");
+        if (auto v = e.str("source")) c.source = *v;
+        if (auto v = e.str("severity")) {
+            if (*v == "info") c.info = true;
+            else if (*v != "warning") e.fail(e.get("severity"), "severity", "expected \"warning\" or \"info\"");
+        }
+        spec.cautions.push_back(std::move(c));
+    });
+}
+
 // `relations`: `left op right` between argument values.
 void read_relations(Reader& r, MacroSpec& spec) {
     spec.relations.clear();
@@ -503,6 +523,7 @@ void apply_spec(Reader& r, MacroSpec& spec) {
     if (r.has("relations")) read_relations(r, spec);
     if (r.has("action")) read_action(r, spec);
     if (r.has("notes")) spec.notes = read_notes(r);
+    if (r.has("cautions")) read_cautions(r, spec);
     if (r.has("readings")) spec.readings = read_readings(r);
 }
 
@@ -545,6 +566,8 @@ void validate_spec(const MacroSpec& spec, const std::string& file, uint32_t line
         check_condition("action[" + std::to_string(i) + "].when", spec.action[i].when);
     for (std::size_t i = 0; i < spec.relations.size(); ++i)
         check_condition("relations[" + std::to_string(i) + "].when", spec.relations[i].when);
+    for (std::size_t i = 0; i < spec.cautions.size(); ++i)
+        check_condition("cautions[" + std::to_string(i) + "].when", spec.cautions[i].when);
     for (std::size_t i = 0; i < spec.at_least_one.size(); ++i)
         for (const auto& a : spec.at_least_one[i].args)
             if (!known(a)) fail("at_least_one[" + std::to_string(i) + "].args", a + " is not an argument of " + spec.name);

@@ -46,6 +46,16 @@ std::optional<ConditionAtom> read_atom(std::string_view word) {
         a.number = std::stoi(w.substr(1));
         return a;
     }
+    if (w == "M3" || w == "M4" || w == "M5") {
+        a.kind = K::Spindle;
+        a.number = w[1] - '0';
+        return a;
+    }
+    if (w == "G40" || w == "G41" || w == "G42") {
+        a.kind = K::CutterComp;
+        a.number = std::stoi(w.substr(1));
+        return a;
+    }
     if (w.rfind("GIVEN:", 0) == 0 && is_name(std::string_view(w).substr(6))) {
         a.kind = K::Given;
         a.arg = w.substr(6);
@@ -170,7 +180,7 @@ private:
             out = add(std::move(n));
         } else {
             out = fail("unknown condition \"" + std::string(t) +
-                       "\"; expected G17, G18, G19, G90, G91, M52, M53, M54, given:NAME or NAME=number");
+                       "\"; expected G17, G18, G19, G90, G91, M52, M53, M54, M3, M4, M5, G40, G41, G42, given:NAME or NAME=number");
         }
         --depth_;
         return out;

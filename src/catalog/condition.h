@@ -5,6 +5,10 @@
 //   G17 G18 G19      the active plane
 //   G90 G91          absolute or incremental mode
 //   M52 M53 M54      the return mode in effect for the call
+//   M3 M4 M5         the spindle's state when the call starts (M3 forward,
+//                    M4 reverse, M5 stopped; an M code on the call line
+//                    itself is not read by the macro)
+//   G40 G41 G42      cutter-radius compensation in effect at the call
 //   given:PK         the argument is written on the call
 //   PM=52            the argument is written with this value
 //
@@ -29,6 +33,8 @@ struct ConditionAtom {
         Plane,      // number: 17, 18, 19
         Distance,   // number: 90, 91
         MCode,      // number: 52, 53, 54
+        Spindle,    // number: 3, 4, 5
+        CutterComp, // number: 40, 41, 42
         Given,      // arg
         ArgEquals,  // arg = value
     };

@@ -921,7 +921,9 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         // plain move sets when `near_`, so those fields make B equal to A again.
         if (near_) {
             B_->motion = A_->motion;
+            B_->g60_from = A_->g60_from;
             B_->feed = A_->feed;
+            B_->feed_commanded = A_->feed_commanded;
             B_->x = A_->x;
             B_->y = A_->y;
             B_->z = A_->z;

@@ -120,6 +120,7 @@ void ModalState::merge(const ModalState& o) {
     sync_tap.merge(o.sync_tap);
     coolant.merge(o.coolant);
     feed.merge(o.feed);
+    feed_commanded.merge(o.feed_commanded);
     overrides_disabled.merge(o.overrides_disabled);
     x.merge(o.x);
     y.merge(o.y);

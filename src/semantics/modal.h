@@ -173,6 +173,7 @@ struct ModalState {
     Val<bool> sync_tap;                  // M843 (synchronised tapping mode) until M845
     Val<bool> coolant;                   // M7/M8/M12 on, M9 off
     Val<double> feed;                    // F
+    Val<bool> feed_commanded;            // an F has been commanded in this program (or a macro's PF)
     Val<bool> overrides_disabled;        // after G114 until M204 (G80 leaves them off)
     Val<double> x, y, z;                 // tool-tip position in program coordinates
     // Variables with known constant values ("VC12", "PX", ...). A name that is

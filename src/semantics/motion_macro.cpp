@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 
+#include "semantics/conditions.h"
 #include "semantics/motion_internal.h"
 #include "semantics/transfer.h"
 
@@ -76,11 +77,9 @@ struct MacroRun {
                 const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
                 return pn == a.number ? Tri::True : Tri::False;
             }
-            case K::Distance: {
-                if (!before.distance.known) return Tri::Unknown;
-                const Distance want = a.number == 90 ? Distance::Absolute : Distance::Incremental;
-                return before.distance.value == want ? Tri::True : Tri::False;
-            }
+            case K::Distance:
+            case K::Spindle:
+            case K::CutterComp: return modal_atom(a, before);
             case K::MCode: return m_active(a.number);
             case K::Given: return given_arg(call, spec.arg(a.arg), a.arg) ? Tri::True : Tri::False;
             case K::ArgEquals: {

@@ -81,6 +81,7 @@ ModalState initial_state(const Config& config, bool subprogram) {
     s.return_level = Val<int>::of(0);
     s.spindle_stopped_by = Val<uint32_t>::of(0);
     s.speed_commanded = Val<bool>::of(false);
+    s.feed_commanded = Val<bool>::of(false);
     s.sync_tap = Val<bool>::of(false);
     return s;
 }
@@ -150,6 +151,8 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
             s.spindle_speed = ps->value;
             s.speed_commanded = Val<bool>::of(true);
         }
+        // The macro feeds at PF, which stays the modal F after it.
+        if (call && call->arg("PF")) s.feed_commanded = Val<bool>::of(true);
         return;
     }
     // Anything else may leave the interpolation mode, the spindle, the coolant
@@ -167,6 +170,7 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
     s.spindle_stopped_by = Val<uint32_t>{};
     s.spindle_speed = Val<double>{};
     s.speed_commanded = Val<bool>{};
+    s.feed_commanded = Val<bool>{};
     s.sync_tap = Val<bool>{};
     s.coolant = Val<bool>{};
 }
@@ -327,7 +331,10 @@ void apply_modal_words(const BlockFacts& f, ModalState& s) {
                 }
                 break;
             case 'F':
-                if (!f.is_call && !has(f.gs, 4)) s.feed = known_or_unknown(v);
+                if (!f.is_call && !has(f.gs, 4)) {
+                    s.feed = known_or_unknown(v);
+                    s.feed_commanded = Val<bool>::of(true);
+                }
                 break;
             case 'Z':
                 if (has(f.gs, 71)) s.g71_level = known_or_unknown(v);
@@ -737,7 +744,10 @@ void apply_plain_move(const Block& b, ModalState& s) {
                 s.motion = Val<int>::of(static_cast<int>(v));
                 s.g60_from.set(false, b.line, w.range);
                 continue;
-            case 'F': s.feed = Val<double>::of(v); continue;
+            case 'F':
+                s.feed = Val<double>::of(v);
+                s.feed_commanded = Val<bool>::of(true);
+                continue;
             case 'X': axis = 0; break;
             case 'Y': axis = 1; break;
             default: axis = 2; break;

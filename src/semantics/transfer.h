@@ -39,7 +39,7 @@ bool ends_program(const Block& block);
 // no fixed cycle and no MODIN is known to be modal (`plain_move_state`), and
 // no G0..G3 is registered as a macro code (`plain_moves_possible`). On such a
 // block resolve_call finds nothing, and apply_block only sets the motion mode,
-// the feed and the positions: `apply_plain_move` does just that, and the walk
+// the feed (and that one was commanded) and the positions: `apply_plain_move` does just that, and the walk
 // calls only the rules that look at such blocks (Rule::sees_plain_moves).
 bool is_plain_move_block(const Block& block);
 inline bool plain_move_state(const ModalState& s) {

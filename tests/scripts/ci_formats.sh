@@ -23,7 +23,7 @@ run() {  # run ARGS... : sets out, err, rc
 # A program with one error (OSP104), one warning (OSP108), one info (OSP005).
 cat >"$work/P.MIN" <<'EOF'
 O1000
-G0 X50 Y30
+G0 X50 Y30 F100 S500
 CALL OZAGR PR=5 PZ=-20 PI=12 M52
 CALL OZAGR PR=5 PZ=-20 PI=12 PM=52 M8
 CALL OCLMP
@@ -32,7 +32,7 @@ EOF
 # Only a warning.
 cat >"$work/W.MIN" <<'EOF'
 O1000
-CALL OZAGR PR=5 PZ=-20 PI=12 PM=52 M8
+CALL OZAGR PR=5 PZ=-20 PI=12 PM=52 M8 PF=100 PS=500
 M30
 EOF
 # Only an info finding.
@@ -115,7 +115,7 @@ out=$("$osplint" check --format gcc --stdin-filename "$work/quiet/P.MIN" - <"$wo
 # --- suppressions through the CLI ---------------------------------------------
 cat >"$work/S.MIN" <<'EOF'
 O1000
-CALL OZAGR PR=5 PZ=-20 PI=12 M52 (osplint: disable=OSP104 -- checked on the machine)
+CALL OZAGR PR=5 PZ=-20 PI=12 M52 PF=100 PS=500 (osplint: disable=OSP104 -- checked on the machine)
 (osplint: disable=OSP108)
 CALL OZAGR PR=5 PZ=-20 PI=12 PM=52 M8
 G0 X0 (osplint: disable=OSP1O4)

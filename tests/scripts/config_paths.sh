@@ -28,7 +28,7 @@ expect() {  # expect NAME EXIT PATTERN [!] -- ARGS...   ("!": the output must no
 }
 
 m52='O1000
-CALL OZAGR PR=5 PZ=-20 PI=12 M52
+CALL OZAGR PR=5 PZ=-20 PI=12 M52 PF=100 PS=500
 M30'
 mkdir -p shop cell/old/deep cell/probe
 cat > shop/osplint.toml <<'TOML'

@@ -19,7 +19,7 @@ expect "option nothing is near" 2 "unknown option '--xyzzy-plugh'" -- check --xy
 expect "the parser's own message stays" 2 "not expected" -- check --formt json P.MIN
 expect "a correct command is not touched" 0 "in 1 file" -- check --format text P.MIN
 # A list option takes one value (comma-separated) and leaves the paths after it alone.
-printf 'O1000\nCALL OZAGR PX=1 M52\nM30\n' > Q.MIN
+printf 'O1000\nCALL OZAGR PX=1 M52 PF=100 PS=500\nM30\n' > Q.MIN
 expect "--select before two paths" 1 "in 2 files" -- check --select OSP104 P.MIN Q.MIN
 expect "--select before two paths checks the first" 1 "^Q.MIN:.*OSP104" -- check --select OSP104 Q.MIN P.MIN
 expect "--ignore before two paths" 0 "in 2 files" -- check --ignore OSP1 Q.MIN P.MIN

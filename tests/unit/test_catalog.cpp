@@ -618,6 +618,41 @@ TEST_CASE("bad configuration entries name the file, line and key") {
         });
         CHECK(e.key() == "macro.OZAGR.relations[0].when");
     }
+    SUBCASE("a caution needs an id, a condition and a text; its severity is warning or info") {
+        struct Bad {
+            const char* entry;
+            const char* key;
+            const char* says;
+        };
+        const Bad cases[] = {
+            {"{ when = \"M4\", text = \"t\" }", "macro.OZAGR.cautions[0].id", "needs 'id'"},
+            {"{ id = \"x\", text = \"t\" }", "macro.OZAGR.cautions[0].when", "needs 'when'"},
+            {"{ id = \"x\", when = \"M4\" }", "macro.OZAGR.cautions[0].text", "needs 'text'"},
+            {"{ id = \"x\", when = \"M6\", text = \"t\" }", "macro.OZAGR.cautions[0].when", "unknown condition"},
+            {"{ id = \"x\", when = \"not given:PW\", text = \"t\" }", "macro.OZAGR.cautions[0].when",
+             "\"PW\" is not an argument of OZAGR"},
+            {"{ id = \"x\", when = \"M4\", text = \"t\", severity = \"error\" }",
+             "macro.OZAGR.cautions[0].severity", "\"warning\" or \"info\""},
+        };
+        for (const auto& c : cases) {
+            CAPTURE(c.entry);
+            auto e = expect_config_error([&] {
+                cat.merge(parse_config(std::string("[OZAGR]\ncautions = [ ") + c.entry + " ]\n"), "osplint.toml");
+            });
+            CHECK(e.key() == c.key);
+            CHECK(std::string(e.what()).find(c.says) != std::string::npos);
+        }
+        // A shop's list replaces the shipped one: an empty list takes every caution off.
+        REQUIRE_FALSE(cat.find("OZAGR")->cautions.empty());
+        cat.merge(parse_config("[OZAGR]\ncautions = []\n"), "osplint.toml");
+        CHECK(cat.find("OZAGR")->cautions.empty());
+        cat.merge(parse_config("[OZAGR]\ncautions = [ { id = \"tool\", when = \"G41 or G42\", text = \"t\", "
+                               "severity = \"info\" } ]\n"),
+                  "osplint.toml");
+        REQUIRE(cat.find("OZAGR")->cautions.size() == 1);
+        CHECK(cat.find("OZAGR")->cautions[0].info);
+        CHECK(cat.find("OZAGR")->cautions[0].when.atoms().size() == 2);
+    }
     SUBCASE("bad enum value") {
         auto e = expect_config_error([&] {
             cat.merge(parse_config("[OSHOP]\nforms = [\"CALL\"]\n[OSHOP.arg.PZ]\nrole = \"cycle\"\nomitted = \"maybe\"\n"),
@@ -787,8 +822,9 @@ TEST_CASE("every `when` condition of the shipped catalog is typed, on arguments 
                 if (!st.when.empty()) check(m, st.when);
             for (const auto& r : m.relations)
                 if (!r.when.empty()) check(m, r.when);
+            for (const auto& c : m.cautions) check(m, c.when);
         }
-    CHECK(seen > 20);
+    CHECK(seen > 30);
     // The upper-limit return of the back-counterbore macros is the G17-only step OSP112 looks for.
     const ActionStep& st = cat.find("OG87C")->action.at(16);
     CHECK(st.when.required_plane() == 17);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "catalog/condition.h"
+#include "semantics/conditions.h"
 
 using namespace osplint;
 
@@ -34,7 +35,9 @@ struct World {
         using K = ConditionAtom::Kind;
         switch (a.kind) {
             case K::Plane: return plane == a.number ? Tri::True : Tri::False;
-            case K::Distance: return Tri::Unknown;
+            case K::Distance:
+            case K::Spindle:
+            case K::CutterComp: return Tri::Unknown;
             case K::MCode: {
                 auto it = m.find(a.number);
                 return it == m.end() ? Tri::Unknown : it->second;
@@ -120,4 +123,33 @@ TEST_CASE("conditions: what is not a condition is said at once") {
     // Deep nesting is refused, not a stack overflow.
     CHECK(error_of(std::string(10000, '(') + "M53" + std::string(10000, ')')).find("nested too deeply") !=
           std::string::npos);
+}
+
+TEST_CASE("conditions: the spindle and cutter-compensation atoms read the modal state at the call") {
+    Condition m4 = parsed("M4");
+    REQUIRE(m4.atoms().size() == 1);
+    CHECK(m4.atoms()[0]->kind == ConditionAtom::Kind::Spindle);
+    CHECK(m4.atoms()[0]->number == 4);
+    Condition g40 = parsed("g40 and not given:PD");
+    CHECK(g40.atoms()[0]->kind == ConditionAtom::Kind::CutterComp);
+    CHECK(g40.atoms()[0]->number == 40);
+
+    ModalState s;
+    auto decide = [&](const ConditionAtom& a) { return modal_atom(a, s); };
+    // Not known (a subprogram, paths that disagree): Unknown, never a guess.
+    CHECK(m4.eval(decide) == Tri::Unknown);
+    CHECK(parsed("G40").eval(decide) == Tri::Unknown);
+    s.spindle = Val<int>::of(4);
+    s.cutter_comp = Val<int>::of(41);
+    CHECK(m4.eval(decide) == Tri::True);
+    CHECK(parsed("M3").eval(decide) == Tri::False);
+    CHECK(parsed("G40").eval(decide) == Tri::False);
+    CHECK(parsed("G41").eval(decide) == Tri::True);
+    s.plane = Val<Plane>::of(Plane::G18);
+    s.distance = Val<Distance>::of(Distance::Incremental);
+    CHECK(parsed("G18 and G91").eval(decide) == Tri::True);
+    CHECK(parsed("G17").eval(decide) == Tri::False);
+    // Atoms about the call itself are left to the caller.
+    CHECK(parsed("given:PK").eval(decide) == Tri::Unknown);
+    CHECK(error_of("M6").find("M3, M4, M5, G40, G41, G42") != std::string::npos);
 }

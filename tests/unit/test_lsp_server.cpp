@@ -209,7 +209,7 @@ TEST_CASE("lsp: incremental edits with non-ASCII comments, in both encodings") {
         const std::string comment =
             "(\xE8\xA3\x8F\xE3\x82\xB6\xE3\x82\xB0\xE3\x83\xAA \xF0\x9F\x94\xA7)";  // (裏ザグリ 🔧)
         const std::string line = "CALL OZAGR " + comment + " PX=0 PY=0 PR=5. PZ=-29. PI=6.";
-        const std::string text = "O1\nG0 G90 X0 Y0\n" + line + "\nM30\n";
+        const std::string text = "O1\nG0 G90 X0 Y0 F300 S800\n" + line + "\nM30\n";
         s.open(kUri, text, 1);
         CHECK(s.diagnostics(kUri, 1)["diagnostics"].empty());
 
