@@ -38,18 +38,6 @@ std::optional<double> eval_terms(const std::vector<ExprTerm>& terms, const Macro
 }
 
 
-// Relations between cycle-axis coordinates are the order checks of OSP302.
-bool is_order_relation(const Relation& r, const MacroSpec& spec) {
-    for (const auto* side : {&r.left, &r.right}) {
-        auto terms = parse_catalog_expr(*side);
-        if (!terms) return true;
-        for (const auto& t : *terms)
-            if (!t.name.empty())
-                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
-    }
-    return false;
-}
-
 void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup, std::optional<Plane> plane,
                   ByteRange fallback) {
     for (const auto& a : spec.args) {
@@ -95,7 +83,7 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
         }
     }
     for (const auto& r : spec.relations) {
-        if (is_order_relation(r, spec)) continue;
+        if (macro::is_order_relation(r, spec)) continue;  // OSP302's
         if (r.plane && (!plane || macro::plane_number(*plane) != r.plane)) continue;
         // Only what the call's own words decide; a condition on the modal
         // state is left to the motion rules.

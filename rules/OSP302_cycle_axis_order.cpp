@@ -20,17 +20,6 @@ constexpr RuleMeta kMeta{
     .category = RuleCategory::WrongMotion,
 };
 
-bool is_order_relation(const Relation& r, const MacroSpec& spec) {
-    for (const auto* side : {&r.left, &r.right}) {
-        auto terms = parse_catalog_expr(*side);
-        if (!terms) return false;
-        for (const auto& t : *terms)
-            if (!t.name.empty())
-                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
-    }
-    return false;
-}
-
 struct Value {
     bool known = false;
     double value = 0;
@@ -142,7 +131,7 @@ public:
 
         for (size_t i = 0; i < spec->relations.size(); ++i) {
             const Relation& r = spec->relations[i];
-            if (!is_order_relation(r, *spec)) continue;
+            if (!macro::is_order_relation(r, *spec)) continue;
             // Only what the call's own words decide.
             const Tri applies = r.when.eval([&](const ConditionAtom& at) {
                 if (at.kind != ConditionAtom::Kind::Given) return Tri::Unknown;

@@ -42,6 +42,20 @@ inline const Word* m_code(const MacroCall& c, double code) {
     return nullptr;
 }
 
+// Whether a catalog relation orders cycle-axis coordinates (PR > PZ): those
+// are OSP302's, the others (FA > F, Q > K) OSP103's. The catalog refuses an
+// expression it cannot parse when it loads.
+inline bool is_order_relation(const Relation& r, const MacroSpec& spec) {
+    for (const auto* side : {&r.left, &r.right}) {
+        auto terms = parse_catalog_expr(*side);
+        if (!terms) return false;
+        for (const auto& t : *terms)
+            if (!t.name.empty())
+                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
+    }
+    return false;
+}
+
 // The argument as given (by its name or one of its aliases), or nullptr.
 inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) {
     if (const MacroArg* m = c.arg(a.name)) return m;
