@@ -44,19 +44,16 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
         Known k = lookup(a);
         if (!k.value || k.range.empty()) continue;
         double v = *k.value;
-        std::string shown = a.name + "=" + macro::format_number(v);
-        std::string src = macro::source_ref(spec, a.source);
+        // Made only for a finding: most calls have none, and a citation is a table search.
+        auto shown = [&] { return a.name + "=" + macro::format_number(v); };
+        auto src = [&] { return macro::source_ref(spec, a.source); };
         if (!a.allowed.empty()) {
-            bool ok = false;
-            std::string list;
-            for (double x : a.allowed) {
-                if (x == v) ok = true;
-                list += (list.empty() ? "" : " or ") + macro::format_number(x);
-            }
-            if (!ok) {
+            if (std::find(a.allowed.begin(), a.allowed.end(), v) == a.allowed.end()) {
+                std::string list;
+                for (double x : a.allowed) list += (list.empty() ? "" : " or ") + macro::format_number(x);
                 ctx.report(kMeta, k.range,
-                           shown + " is not a value " + spec.name + " accepts: " + a.name + " (" + a.meaning +
-                               ") must be " + list + " (" + src + "); the macro stops with an alarm or does "
+                           shown() + " is not a value " + spec.name + " accepts: " + a.name + " (" + a.meaning +
+                               ") must be " + list + " (" + src() + "); the macro stops with an alarm or does "
                                "something the manual does not define");
                 continue;
             }
@@ -70,8 +67,8 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
         }
         if (!need) continue;
         auto& d = ctx.report(kMeta, k.range,
-                             shown + ": " + a.name + " (" + a.meaning + ") of " + spec.name + " must be " + need +
-                                 " (" + src + "); the macro stops with an alarm or moves the wrong way");
+                             shown() + ": " + a.name + " (" + a.meaning + ") of " + spec.name + " must be " + need +
+                                 " (" + src() + "); the macro stops with an alarm or moves the wrong way");
         if (a.always_incremental && v <= 0) {
             std::string note = a.name + " is an amount, always incremental, even under G90: a zero or negative "
                                "value is often a coordinate written where the amount belongs";

@@ -40,6 +40,7 @@ public:
             (macro::is_invocation(*c) || c->kind == CallKind::ModinPositioning)) {
             user_ = c->spec;
             user_range_ = macro::call_range(*c, v.block);
+            flush(ctx);  // the blocks before it, in program order
         }
         const Statement* ncyl = v.block.statement(StmtKind::Ncyl);
         if (!ncyl) return;
@@ -64,15 +65,22 @@ public:
         // is the control's own business: only blocks known to be outside any
         // MODIN of such a macro and outside any cycle are kept.
         if (!v.before.modin.known || !v.after.cycle.known || v.after.cycle.value) return;
-        pending_.push_back({ncyl->keyword_range, macro::mode_from_subprogram(v.after, "G60"), may});
+        Ncyl n{ncyl->keyword_range, macro::mode_from_subprogram(v.after, "G60"), may};
+        // Once the program has used such a macro, the block is reported at
+        // once; before, it waits for one (kept only until the first use).
+        if (user_) report(ctx, n, *user_, "this program uses " + user_->name, user_range_);
+        else pending_.push_back(std::move(n));
     }
 
-    void end_program(RuleContext& ctx, const ProgramView&) override {
-        if (!user_) return;
-        for (const auto& p : pending_) report(ctx, p, *user_, "this program uses " + user_->name, user_range_);
-    }
+    void end_program(RuleContext& ctx, const ProgramView&) override { flush(ctx); }
 
 private:
+    void flush(RuleContext& ctx) {
+        if (!user_) return;
+        for (const auto& p : pending_) report(ctx, p, *user_, "this program uses " + user_->name, user_range_);
+        pending_.clear();
+    }
+
     struct Ncyl {
         ByteRange range;            // the NCYL keyword
         std::string from;           // where G60 came from, when a subprogram set it

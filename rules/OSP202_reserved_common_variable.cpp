@@ -40,6 +40,8 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override {
         uses_.clear();
         calls_.clear();
+        names_.clear();
+        distinct_ = 0;
     }
 
     void check_block(RuleContext&, const BlockView& v) override {
@@ -47,7 +49,7 @@ public:
         if (const MacroCall* c = v.call; c && c->spec && c->spec->has(Hazard::OverwritesVc120To128) &&
                                          (c->kind == CallKind::Call || c->kind == CallKind::Modin ||
                                           c->kind == CallKind::GCode || c->kind == CallKind::MCode))
-            calls_.push_back({c->spec, macro::call_range(*c, b), b.line});
+            add_call({c->spec, macro::call_range(*c, b), b.line});
         std::vector<bool> is_target(b.exprs.size(), false);
         for (const auto& a : b.assignments)
             if (a.target >= 0 && static_cast<size_t>(a.target) < is_target.size()) is_target[a.target] = true;
@@ -65,13 +67,8 @@ public:
     void end_program(RuleContext& ctx, const ProgramView&) override {
         if (calls_.empty()) return;
         const Clobber& first = calls_.front();
-        std::string names;
-        int distinct = 0;
-        for (const auto& c : calls_)
-            if (names.find(c.spec->name) == std::string::npos) {
-                names += (names.empty() ? "" : ", ") + c.spec->name;
-                ++distinct;
-            }
+        const std::string& names = names_;
+        const int distinct = distinct_;
         for (const Use& u : uses_) {
             std::string var = "VC" + std::to_string(u.number);
             auto& d = ctx.report(
@@ -81,9 +78,7 @@ public:
                                    : " use VC120-VC128 internally and overwrite them when they run (") +
                     clobber_source(ctx.catalog(), *first.spec) +
                     "): a value kept there across the call is lost; use a common variable outside VC120-VC128");
-            size_t shown = 0;
             for (const auto& c : calls_) {
-                if (shown++ == 3) break;
                 d.notes.push_back({c.spec->name + " overwrites " + var + " when it runs",
                                    ctx.resolve(c.range)});
             }
@@ -91,8 +86,20 @@ public:
     }
 
 private:
+    // The first calls (the notes show three) and the names of the macros
+    // called: bounded by the catalog, not by the number of calls.
+    static constexpr size_t kShownCalls = 3;
+    void add_call(Clobber c) {
+        if (names_.find(c.spec->name) == std::string::npos) {
+            names_ += (names_.empty() ? "" : ", ") + c.spec->name;
+            ++distinct_;
+        }
+        if (calls_.size() < kShownCalls) calls_.push_back(c);
+    }
     std::vector<Use> uses_;
     std::vector<Clobber> calls_;
+    std::string names_;
+    int distinct_ = 0;
 };
 
 }  // namespace
