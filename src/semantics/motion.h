@@ -4,7 +4,8 @@
 // open MODIN, a one-shot G-code macro) or a hole of a fixed cycle (G81 ...,
 // and the G-code macro cycle OG84L/G114), the evaluator walks the manual's
 // action sequence (the catalog's `action` steps, or the fixed-cycle points
-// I -> R -> Z of the fixed cycles manual) and records, per step, the cycle-axis position the
+// I -> R -> Z of the fixed cycles manual, with the K point of G77, the J depth
+// of G83 and the relief of G88) and records, per step, the cycle-axis position the
 // step reaches. The envelope is the range [lowest, highest] of those points,
 // each end naming the step that produced it ("step 3c: PZ-PI-PL = -20-12-5 =
 // -37").
@@ -46,7 +47,7 @@ enum class MotionSource : uint8_t {
 
 // One cycle-axis point of the motion, from one step of the action sequence.
 struct MotionPoint {
-    std::string step;    // "3c"; fixed cycles: "I", "R", "Z", "return"
+    std::string step;    // "3c"; fixed cycles: "I", "R", "K", "J", "J return", "d2", "Z", "shift", "return"
     std::string label;   // "step 3c", "R point", "return (G98)"
     std::string mark;    // short label for pictures: "R", "Z", "A", "T", "I", "G71", "+lim"; "" = none
     std::string expr;    // the catalog expression ("PZ-PI-PL"), or what the point is ("I point")

@@ -1,7 +1,12 @@
 // The envelope of a hole of a fixed cycle (G81 ...) or of a G-code macro
 // cycle (OG84L via G114): the I point, R and Z in absolute terms (fixed cycles manual),
-// the macro's own sequence when it has one, the return after the hole (M52 /
-// M53 / M54, else G98 / G99), and the hole position in the positioning plane.
+// what G77 (K), G83 (J) and G88 (the shifts) add between them, the macro's own
+// sequence when it has one, the return after the hole (M52 / M53 / M54, else
+// G98 / G99), and the hole position in the positioning plane.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
 #include <fmt/format.h>
 
 #include "semantics/motion_internal.h"
@@ -95,18 +100,14 @@ MotionPoint point_from(const std::string& step, const std::string& label, const 
     return p;
 }
 
-// An argument of a G-code macro cycle at one of its holes: R and Z as the
-// cycle holds them, a word of the block, a word given earlier in the cycle,
-// or the default when it was never given since the cycle started.
-ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveCycle& c, const MacroSpec& macro,
-                         const HoleLevels& levels, const std::string& name) {
-    const ArgSpec* as = macro.arg(name);
-    std::string n = as ? as->name : name;
-    if (n == "R") return levels.r;
-    if (n == "Z") return levels.z;
+// A word of a cycle at one of its holes, by its address: on the block, or
+// given earlier in the cycle (the cycle's modal words hold what earlier blocks
+// gave). Absent: not given since the cycle started; Unknown when the paths to
+// the block disagree on that.
+ArgValue cycle_word(const Block& b, const ModalState& before, const ActiveCycle& c,
+                    const std::function<bool(const std::string&)>& is_it) {
     for (const auto& w : b.words) {
-        const ArgSpec* wa = macro.arg_for_address(w.address);
-        if (!wa || wa->name != n) continue;
+        if (!is_it(w.address)) continue;
         ArgValue out;
         if (auto v = word_value(b, w, before)) {
             out.state = ArgValue::State::Known;
@@ -117,10 +118,8 @@ ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveC
         }
         return out;
     }
-    // The cycle's modal words (by address) hold what earlier blocks gave.
     for (const auto& [addr, val] : c.words) {
-        const ArgSpec* wa = macro.arg_for_address(addr);
-        if (!wa || wa->name != n) continue;
+        if (!is_it(addr)) continue;
         ArgValue out;
         if (val.known) {
             out.state = ArgValue::State::Known;
@@ -132,8 +131,33 @@ ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveC
         }
         return out;
     }
-    if (as && c.known_absent(addr_of(macro, n))) {
-        ArgValue out;
+    ArgValue out;
+    if (!c.words_known) {
+        out.state = ArgValue::State::Unknown;
+        out.how = "whether it was given earlier in the cycle differs between the paths to this block";
+    }
+    return out;
+}
+
+ArgValue cycle_word(const Block& b, const ModalState& before, const ActiveCycle& c, const std::string& address) {
+    return cycle_word(b, before, c, [&](const std::string& a) { return a == address; });
+}
+
+// An argument of a G-code macro cycle at one of its holes: R and Z as the
+// cycle holds them, a word of the block, a word given earlier in the cycle,
+// or the default when it was never given since the cycle started.
+ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveCycle& c, const MacroSpec& macro,
+                         const HoleLevels& levels, const std::string& name) {
+    const ArgSpec* as = macro.arg(name);
+    std::string n = as ? as->name : name;
+    if (n == "R") return levels.r;
+    if (n == "Z") return levels.z;
+    ArgValue out = cycle_word(b, before, c, [&](const std::string& addr) {
+        const ArgSpec* wa = macro.arg_for_address(addr);
+        return wa && wa->name == n;
+    });
+    if (out.state != ArgValue::State::Absent) return out;
+    if (as) {
         if (as->default_value) {
             out.state = ArgValue::State::Known;
             out.value = *as->default_value;
@@ -141,7 +165,6 @@ ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveC
         }
         return out;  // not given since the cycle started
     }
-    ArgValue out;
     out.state = ArgValue::State::Unknown;
     out.how = "whether it was given earlier in the cycle differs between the paths to this block";
     return out;
@@ -174,6 +197,185 @@ void add_macro_sequence(const Block& b, const ModalState& before, const ActiveCy
         p.worked = e.worked;
         if (step.target == "R" && !r.how.empty() && r.state == ArgValue::State::Known) p.worked += " (" + r.how + ")";
         env.points.push_back(std::move(p));
+    }
+}
+
+// --- What G77, G83 and G88 add to I -> R -> Z -----------------------------------
+
+// A point that may or may not be reached: it only widens the picture.
+void make_possible(MotionPoint& p, const std::string& why) {
+    p.possible = true;
+    if (p.value.known) p.reach = Interval{p.value.value, p.value.value};
+    p.value = Val<double>{};
+    p.worked += " (" + why + ")";
+}
+
+bool given_in_cycle(const Block& b, const ActiveCycle& c, const std::string& address) {
+    return b.find(address) != nullptr || c.given(address);
+}
+
+// G77: K is where the step motion (G87) changes to the pick motion (G83);
+// under G91 it is measured from the R point, like Z. It lies between R and Z;
+// a K elsewhere is only a possible point, with a note.
+void add_g77_k(const Block& b, const ModalState& before, const ActiveCycle& c, const HoleLevels& l, Envelope& env) {
+    const ArgValue k = cycle_word(b, before, c, "K");
+    if (k.state == ArgValue::State::Absent) {
+        env.notes.push_back("K not given: the point where the step motion changes to the pick motion is not known");
+        return;
+    }
+    ArgValue at;
+    if (k.state == ArgValue::State::Unknown) {
+        at = k;
+    } else if (!before.distance.known) {
+        at.state = ArgValue::State::Unknown;
+        at.how = "G90/G91 not known";
+    } else if (!env.incremental) {
+        at = k;
+    } else if (l.r.state == ArgValue::State::Known) {
+        at.state = ArgValue::State::Known;
+        at.value = l.r.value + k.value;
+        at.how = "under G91 from the R point: " + num(l.r.value) + (k.value < 0 ? "" : "+") + num(k.value) + " = " +
+                 num(at.value);
+    } else {
+        at.state = ArgValue::State::Unknown;
+        at.how = "under G91 K is measured from the R point, which is not known";
+    }
+    MotionPoint p = point_from("K", "K point", "K", "K", at, "004:L56-57",
+                               "K point: the step motion (G87) changes to the pick motion (G83)");
+    // Between R and Z it changes nothing of the envelope's extremes; elsewhere
+    // the manual says nothing of where the tool goes.
+    if (!p.value.known) {
+        make_possible(p, "between R and Z");
+    } else if (l.r.state != ArgValue::State::Known || l.z.state != ArgValue::State::Known) {
+        make_possible(p, "R or Z not known: whether K lies between them is not known");
+    } else if (p.value.value > std::max(l.r.value, l.z.value) || p.value.value < std::min(l.r.value, l.z.value)) {
+        env.notes.push_back("K point " + num(p.value.value) + " does not lie between R (" + num(l.r.value) +
+                            ") and Z (" + num(l.z.value) + "): the manual has K on the way from R to Z");
+        make_possible(p, "not between R and Z");
+    }
+    env.points.push_back(std::move(p));
+}
+
+// G83 with J: pecks of Q down to the withdrawal amount J below R, a rapid
+// return to R, a rapid approach to d2 short of the bottom (d2 a setting
+// parameter, initially 1 mm), and so on J deeper each time down to Z. The
+// first withdrawal depth R-J and the return to R are followed; the approach
+// rests on the setting parameter.
+void add_g83_j(const Block& b, const ModalState& before, const ActiveCycle& c, const HoleLevels& l, Envelope& env) {
+    const ArgValue j = cycle_word(b, before, c, "J");
+    if (j.state == ArgValue::State::Absent) return;  // a return to R after every Q
+    const std::string ax(1, env.axis);
+    if (j.state == ArgValue::State::Unknown) {
+        env.notes.push_back("J (" + j.how + "): the withdrawal depth with J is not known");
+        return;
+    }
+    if (l.r.state != ArgValue::State::Known || l.z.state != ArgValue::State::Known) {
+        env.notes.push_back("J " + num(j.value) + ": the withdrawal depth R-J is not known (R or " + ax + " not known)");
+        return;
+    }
+    const double r = l.r.value, z = l.z.value;
+    const double down = r >= z ? -1.0 : 1.0;  // the direction of the cut, from R toward Z
+    if (j.value <= 0) {
+        env.notes.push_back("J " + num(j.value) + " is not a positive withdrawal amount: the motion with J is not followed");
+        return;
+    }
+    if (j.value >= std::fabs(r - z)) {
+        env.notes.push_back("J " + num(j.value) + " is not less than the depth from R to " + ax + " (" +
+                            num(std::fabs(r - z)) + "): the hole is cut to " + ax + " before the first return to R");
+        return;
+    }
+    const double at = r + down * j.value;
+    const std::string sign = down < 0 ? "-" : "+";
+    MotionPoint jp;
+    jp.step = "J";
+    jp.label = "J depth";
+    jp.expr = "R" + sign + "J";
+    jp.value = Val<double>::of(at);
+    jp.worked = num(r) + sign + num(j.value) + " = " + num(at);
+    jp.source = "004:L144-146";
+    jp.text = "with J: pecks of Q, each with a rapid return of d1, down to the withdrawal amount J";
+    env.points.push_back(std::move(jp));
+    MotionPoint back;
+    back.step = "J return";
+    back.label = "return to R (J)";
+    back.expr = "R";
+    back.value = Val<double>::of(r);
+    back.worked = num(r);
+    back.source = "004:L146";
+    back.text = "after the J depth: rapid return to the R point";
+    env.points.push_back(std::move(back));
+    MotionPoint d2;
+    d2.step = "d2";
+    d2.label = "approach (J)";
+    d2.expr = "R" + sign + "J" + (down < 0 ? "+" : "-") + "d2";
+    d2.value = Val<double>::of(at - down * 1.0);
+    d2.worked = num(r) + sign + num(j.value) + (down < 0 ? "+" : "-") + "1 = " + num(at - down * 1.0);
+    d2.source = "004:L147-150";
+    d2.text = "rapid approach to d2 short of the bottom";
+    make_possible(d2, "d2 is a setting parameter, initially 1 mm");
+    env.points.push_back(std::move(d2));
+    env.notes.push_back("with J the cutting goes on J deeper each time down to " + ax +
+                        ", with a rapid return to R and a rapid approach to d2 short of the bottom (d1 and d2 are "
+                        "setting parameters, initially 1 mm)");
+}
+
+// G88: after Z the cycle axis is relieved by the Z shift (Q in the format and
+// the function text, K in the address list: Q first), away from the hole
+// bottom, and X/Y by the shifts I/J (G17) before the rapid return to R.
+void add_g88_shifts(const Block& b, const ModalState& before, const ModalState& after, const ActiveCycle& c,
+                    const HoleLevels& l, Envelope& env) {
+    const std::string ax(1, env.axis);
+    std::string addr;
+    if (given_in_cycle(b, c, "Q")) {
+        addr = "Q";
+        if (given_in_cycle(b, c, "K")) env.notes.push_back("Q and K both given: Q is taken as the Z shift");
+    } else if (given_in_cycle(b, c, "K")) {
+        addr = "K";
+    }
+    if (addr.empty()) {
+        env.notes.push_back(c.words_known ? "no Z shift (Q or K) given: the relief after " + ax + " is not known"
+                                          : "whether a Z shift (Q or K) was given differs between the paths to this block");
+    } else {
+        const ArgValue q = cycle_word(b, before, c, addr);
+        MotionPoint p;
+        p.step = "shift";
+        p.label = "Z shift (" + addr + ")";
+        p.expr = ax + "+" + addr;
+        p.source = "004:L261-262";
+        p.text = "after Z the spindle stops oriented and the cycle axis is relieved by the shift, away from the bottom";
+        if (q.state != ArgValue::State::Known) {
+            p.worked = "? (" + q.how + ")";
+        } else if (l.z.state != ArgValue::State::Known) {
+            p.worked = "? (" + l.z.how + ")";
+        } else {
+            const double v = l.z.value + std::fabs(q.value);
+            p.value = Val<double>::of(v);
+            p.worked = num(l.z.value) + "+" + num(std::fabs(q.value)) + " = " + num(v) +
+                       (q.value < 0 ? " (the shift taken as an amount)" : "");
+        }
+        env.points.push_back(std::move(p));
+    }
+    if (*env.plane != Plane::G17) {
+        if (given_in_cycle(b, c, "I") || given_in_cycle(b, c, "J"))
+            env.notes.push_back("the I/J shifts are followed in G17 only");
+        return;
+    }
+    if (b.statement(StmtKind::CoordCalc)) return;  // several holes: no one position to shift from
+    for (auto [a, axis] : {std::pair<const char*, char>{"I", 'X'}, {"J", 'Y'}}) {
+        const ArgValue s = cycle_word(b, before, c, a);
+        const Val<double> from = after.axis(axis);
+        if (s.state == ArgValue::State::Absent) {
+            env.notes.push_back(std::string(a) + " not given: the " + axis +
+                                " shift is the setting parameter's, not known here");
+        } else if (s.state == ArgValue::State::Unknown) {
+            env.notes.push_back(std::string(a) + " shift not known (" + s.how + ")");
+        } else if (from.known) {
+            const double to = from.value + s.value;
+            env.plane_spans.push_back({axis, Interval{std::min(from.value, to), std::max(from.value, to)},
+                                       std::string("G88 shift ") + a + " after Z: " + axis + " " + num(from.value) +
+                                           " to " + num(to) + " (the sign of " + a + " taken as the direction)",
+                                       true});
+        }
     }
 }
 
@@ -298,7 +500,10 @@ std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, 
         const std::string ax(1, env.axis);
         env.points.push_back(point_from("R", "R point", "R", "R", levels.r, "004:L7-8",
                                         "R point: rapid changes to cutting feed"));
+        if (!macro && c.code == 77) add_g77_k(b, before, c, levels, env);
+        if (!macro && c.code == 83) add_g83_j(b, before, c, levels, env);
         env.points.push_back(point_from("Z", "Z point", ax, "Z", levels.z, "004:L9", "Z point: the final depth"));
+        if (!macro && c.code == 88) add_g88_shifts(b, before, after, c, levels, env);
         if (!macro && !config.catalog.find_cycle(c.code))
             env.notes.push_back(env.code + " is not described in the manuals: I -> R -> Z assumed");
     }

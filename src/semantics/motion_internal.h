@@ -6,7 +6,8 @@
 //   motion_eval.cpp    the catalog's expressions, evaluated against the
 //                      arguments of a call (`when` conditions: catalog/condition.h)
 //   motion_macro.cpp   the envelope of a macro call (the catalog's action steps)
-//   motion_hole.cpp    the envelope of a fixed-cycle hole (I -> R -> Z -> return)
+//   motion_hole.cpp    the envelope of a fixed-cycle hole (I -> R -> Z -> return,
+//                      with G77 K, G83 J and the G88 shifts)
 //   motion_travel.cpp  points outside [machine.travel]
 #pragma once
 

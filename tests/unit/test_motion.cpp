@@ -425,6 +425,90 @@ TEST_CASE("fixed cycles: G91, NCYL, BHC, M53 to the G71 level, G18") {
     CHECK(y.lowest->value == doctest::Approx(-20));
 }
 
+TEST_CASE("G77 K, G83 J and G88 Q/K/I/J add their points to I -> R -> Z") {
+    auto t = trace_text(kHead +
+                        "G98\n"
+                        "G77 X10. Y10. Z-20. R3. Q5. K-8. F100\n"         // 6: K point -8
+                        "G80\n"
+                        "G91\n"
+                        "G77 X0 Y0 Z-23. R-47. Q5. K-5. F100\n"           // 9: R 3, K 3-5 = -2, Z -20
+                        "G80\n"
+                        "G90\n"
+                        "G77 X10. Y10. Z-20. R3. Q5. K-25. F100\n"        // 12: K below Z
+                        "G80\n"
+                        "G83 X10. Y10. Z-40. R3. Q5. J10. F100\n"         // 14: J depth 3-10 = -7
+                        "X20.\n"                                          // 15: J from line 14
+                        "G80\n"
+                        "G83 X10. Y10. Z-10. R3. Q5. J20. F100\n"         // 17: J deeper than the hole
+                        "G80\n"
+                        "G88 X-60. Y10. Z-30. R3. I1.5 J-0.5 Q0.3 F100\n" // 19: relief -30+0.3
+                        "G80\n"
+                        "G88 X-60. Y10. Z-30. R3. K0.2 F100\n"            // 21: K as the Z shift, no I/J
+                        "G80\nM30\n");
+    // G77: K is a point between R and Z (fixed cycles manual, "G77 Step & pick cycle")
+    const Envelope& k = at_line(t, 6);
+    REQUIRE(point(k, "K"));
+    CHECK(point(k, "K")->value.value == doctest::Approx(-8));
+    CHECK(!point(k, "K")->possible);
+    CHECK(k.lowest->value == doctest::Approx(-20));
+    CHECK(k.points[2].step == "K");  // I, R, K, Z
+    CHECK(k.points[3].step == "Z");
+    // under G91 K is the distance from the R point
+    const Envelope& ki = at_line(t, 9);
+    CHECK(point(ki, "K")->value.value == doctest::Approx(-2));
+    CHECK(point(ki, "K")->describe().find("3-5 = -2") != std::string::npos);
+    // a K below Z: only a possible point, and a note; the envelope stays [-20, 50]
+    const Envelope& kb = at_line(t, 12);
+    CHECK(point(kb, "K")->possible);
+    CHECK(kb.lowest->value == doctest::Approx(-20));
+    REQUIRE(kb.may_low.has_value());
+    CHECK(kb.may_low->value == doctest::Approx(-25));
+    CHECK(kb.notes.size() == 1);
+    // G83 with J: the J depth R-J, the return to R, the approach to d2 short of it (a setting parameter: possible)
+    const Envelope& j = at_line(t, 14);
+    REQUIRE(point(j, "J"));
+    CHECK(point(j, "J")->value.value == doctest::Approx(-7));
+    CHECK(point(j, "J")->expr == "R-J");
+    CHECK(point(j, "J return")->value.value == doctest::Approx(3));
+    const MotionPoint* d2 = point(j, "d2");
+    REQUIRE(d2);
+    CHECK(d2->possible);
+    REQUIRE(d2->reach.has_value());
+    CHECK(d2->reach->lo == doctest::Approx(-6));
+    CHECK(j.lowest->value == doctest::Approx(-40));
+    CHECK(j.highest->value == doctest::Approx(50));
+    CHECK(!j.may_low.has_value());
+    CHECK(!j.may_high.has_value());
+    // the next hole of the cycle reads J from the cycle's modal words
+    CHECK(point(at_line(t, 15), "J")->value.value == doctest::Approx(-7));
+    // J not less than the depth: no J points, a note
+    const Envelope& jd = at_line(t, 17);
+    CHECK(!point(jd, "J"));
+    CHECK(!jd.notes.empty());
+    // G88: Z relieved by Q away from the bottom; I/J shift X and Y (G17), read as signed
+    const Envelope& f = at_line(t, 19);
+    const MotionPoint* s = point(f, "shift");
+    REQUIRE(s);
+    CHECK(s->value.value == doctest::Approx(-29.7));
+    CHECK(s->expr == "Z+Q");
+    CHECK(f.lowest->value == doctest::Approx(-30));
+    std::map<char, PlaneSpan> spans;
+    for (const auto& sp : f.plane_spans) spans[sp.axis] = sp;
+    REQUIRE(spans.count('X'));
+    REQUIRE(spans.count('Y'));
+    CHECK(spans['X'].range.lo == doctest::Approx(-60));
+    CHECK(spans['X'].range.hi == doctest::Approx(-58.5));
+    CHECK(spans['X'].inferred);
+    CHECK(spans['Y'].range.lo == doctest::Approx(9.5));
+    CHECK(spans['Y'].range.hi == doctest::Approx(10));
+    // K is accepted as the Z shift; without I/J the setting parameters shift, not known here
+    const Envelope& fk = at_line(t, 21);
+    CHECK(point(fk, "shift")->value.value == doctest::Approx(-29.8));
+    CHECK(point(fk, "shift")->expr == "Z+K");
+    CHECK(fk.plane_spans.empty());
+    CHECK(fk.notes.size() == 2);
+}
+
 TEST_CASE("unknown values stay unknown") {
     auto t = trace_text(kHead +
                         "CALL OZAGR PR=5. PZ=VC1 PI=6.\n"
