@@ -86,7 +86,8 @@ public:
                               " travel " + (t.below ? "minimum " : "maximum ") + motion_number(t.limit) + ": " + t.what;
             auto& d = ctx.report(kMeta, where, std::move(msg));
             d.notes.push_back({travel_text(config, t.axis), std::nullopt});
-            if (t.inferred)
+            if (!t.note.empty()) d.notes.push_back({t.note, std::nullopt});
+            else if (t.inferred)
                 d.notes.push_back({"this step's target is inferred from the action sequence, not printed in the manual",
                                    std::nullopt});
             if (env->call_kind == CallKind::ModinPositioning)

@@ -80,13 +80,17 @@ struct PlanePoint {
     std::string what;  // "PX" / "X"
 };
 
-// Where the motion may spread in the positioning plane (a slot, a counterbore
-// circle): information for the trace and the picture, not checked.
+// Where the motion spreads in the positioning plane (a slot, a counterbore
+// circle, the shift of a fine-boring cycle), checked against the travel like
+// the points (`travel_violations`).
 struct PlaneSpan {
     char axis = 0;
     Interval range;
     std::string why;
-    bool inferred = false;  // rests on a reading (e.g. the start point is one end of the slot)
+    bool inferred = false;     // rests on a reading (e.g. the start point is one end of the slot)
+    bool compensated = false;  // a contour cut with cutter-radius compensation: the spindle
+                               // centre runs inside it by the tool radius, which is not known
+    std::string arg;           // the argument or address that sets its extent ("PC", "PI", "I")
 };
 
 struct Envelope {
@@ -137,13 +141,17 @@ struct TravelViolation {
     bool below = false;  // below the minimum (else above the maximum)
     std::string what;    // "step 3c: PZ-PI-PL = -298-5-5 = -308", "positioning to PX = 420"
     bool inferred = false;
-    std::string name;    // plane points: the argument or address that set the position ("PX", "X")
+    std::string name;    // plane points and spans: the argument or address that set the position ("PX", "X")
     int point = -1;      // cycle axis: index into Envelope::points
+    std::string note;    // spans: what the extent rests on, to be stated with the finding
 };
 
 // The definite points of the envelope (cycle axis and plane points) outside
 // the configured travel: at most one per axis and direction, the farthest.
 // The start point (I) and a trip to the + limit are not moves past a limit.
+// Then the plane spans that go beyond a limit, the farthest per axis and
+// direction, where no plane point is already past that limit; a span that is
+// inferred or a compensated contour is `inferred`, with its `note`.
 std::vector<TravelViolation> travel_violations(const Envelope& env, const Config& config);
 
 // A plain positioning block (no macro, no hole): the axes it moves to outside

@@ -372,9 +372,9 @@ void add_g88_shifts(const Block& b, const ModalState& before, const ModalState& 
         } else if (from.known) {
             const double to = from.value + s.value;
             env.plane_spans.push_back({axis, Interval{std::min(from.value, to), std::max(from.value, to)},
-                                       std::string("G88 shift ") + a + " after Z: " + axis + " " + num(from.value) +
-                                           " to " + num(to) + " (the sign of " + a + " taken as the direction)",
-                                       true});
+                                       std::string("G88 shift ") + a + " after Z, from " + num(from.value) +
+                                           " (the sign of " + a + " taken as the direction)",
+                                       true, false, a});
         }
     }
 }

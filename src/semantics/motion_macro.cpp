@@ -283,6 +283,14 @@ private:
     std::map<char, Interval> spans_;
 };
 
+// Whether the macro cuts its contour with cutter-radius compensation (it takes
+// a compensation number).
+bool compensated(const MacroSpec& spec) {
+    for (const auto& a : spec.args)
+        if (a.role == ArgRole::CompNumber) return true;
+    return false;
+}
+
 // OG87C: the cutting edge runs round the counterbore circle PC about the
 // centre; steps 3/13 shift the oriented tool by PI/PJ(/PK).
 void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane) {
@@ -304,7 +312,8 @@ void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread
         if (auto c = spread.centre_of(*ax)) spread.widen(*ax, *c + *v);
     }
     for (auto& [a, iv] : spread.spans())
-        env.plane_spans.push_back({a, iv, "counterbore circle PC=" + num(*d) + " about the centre, tool shift", false});
+        env.plane_spans.push_back({a, iv, "counterbore circle PC=" + num(*d) + " about the centre, tool shift", false,
+                                   compensated(spec), "PC"});
 }
 
 // Keyways and wall finishing: the slot from the start point along PI (keyway:
@@ -348,7 +357,7 @@ void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane
         }
     }
     for (auto& [a, iv] : spread.spans())
-        env.plane_spans.push_back({a, iv, why + " (start point taken as one end)", true});
+        env.plane_spans.push_back({a, iv, why + " (start point taken as one end)", true, compensated(spec), "PI"});
 }
 
 void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup, Plane plane,

@@ -1,6 +1,8 @@
 // Points outside `[machine.travel]` (see motion.h): the definite points of an
 // envelope, and the axes a plain positioning block moves to.
+#include <map>
 #include <set>
+#include <utility>
 
 #include "semantics/motion_internal.h"
 
@@ -25,10 +27,55 @@ void cycle_axis_violations(const Envelope& env, const TravelLimit& t, std::vecto
     auto index = [&](const MotionPoint* p) { return static_cast<int>(p - env.points.data()); };
     if (below)
         out.push_back({env.axis, below->value.value, t.min, true, below->describe(), below->inferred, "",
-                       index(below)});
+                       index(below), ""});
     if (above)
         out.push_back({env.axis, above->value.value, t.max, false, above->describe(), above->inferred, "",
-                       index(above)});
+                       index(above), ""});
+}
+
+// What a span past a limit rests on, stated with the finding.
+std::string span_note(const PlaneSpan& s) {
+    std::string out;
+    if (s.inferred) out = "this extent rests on a reading of the manual, not on what it prints";
+    if (s.compensated)
+        out += std::string(out.empty() ? "" : "; ") +
+               "the contour is cut with cutter-radius compensation: the spindle centre runs inside it by the tool "
+               "radius, so it passes the limit only if it goes beyond it by more than that radius";
+    return out;
+}
+
+// The plane spans past a limit: the farthest per axis and direction, unless a
+// plane point of the envelope is already past that limit.
+void plane_span_violations(const Envelope& env, const Config& config, std::vector<TravelViolation>& out) {
+    std::map<std::pair<char, bool>, TravelViolation> farthest;
+    for (const auto& s : env.plane_spans) {
+        auto it = config.travel.find(s.axis);
+        if (it == config.travel.end()) continue;
+        const TravelLimit& t = it->second;
+        for (bool below : {true, false}) {
+            const double v = below ? s.range.lo : s.range.hi;
+            const double limit = below ? t.min : t.max;
+            if (below ? v >= limit : v <= limit) continue;
+            auto found = farthest.find({s.axis, below});
+            if (found != farthest.end() && (below ? v >= found->second.value : v <= found->second.value)) continue;
+            TravelViolation tv;
+            tv.axis = s.axis;
+            tv.value = v;
+            tv.limit = limit;
+            tv.below = below;
+            tv.what = s.why + ": " + std::string(1, s.axis) + " " + num(s.range.lo) + " .. " + num(s.range.hi);
+            tv.inferred = s.inferred || s.compensated;
+            tv.name = s.arg;
+            tv.note = span_note(s);
+            farthest[{s.axis, below}] = std::move(tv);
+        }
+    }
+    for (auto& [key, tv] : farthest) {
+        bool point_past = false;
+        for (const auto& o : out)
+            if (o.point < 0 && o.axis == key.first && o.below == key.second) point_past = true;
+        if (!point_past) out.push_back(std::move(tv));
+    }
 }
 
 }  // namespace
@@ -44,11 +91,12 @@ std::vector<TravelViolation> travel_violations(const Envelope& env, const Config
         if (it == config.travel.end()) continue;
         if (pp.value < it->second.min)
             out.push_back({pp.axis, pp.value, it->second.min, true, "positioning to " + pp.what + " = " + num(pp.value), false,
-                           pp.what, -1});
+                           pp.what, -1, ""});
         else if (pp.value > it->second.max)
             out.push_back({pp.axis, pp.value, it->second.max, false, "positioning to " + pp.what + " = " + num(pp.value),
-                           false, pp.what, -1});
+                           false, pp.what, -1, ""});
     }
+    plane_span_violations(env, config, out);
     return out;
 }
 
@@ -72,8 +120,8 @@ std::vector<TravelViolation> positioning_violations(const Block& b, const ModalS
         Val<double> v = after.axis(a);
         if (it == config.travel.end() || !v.known) continue;
         std::string what = "positioning " + std::string(1, a) + num(v.value);
-        if (v.value < it->second.min) out.push_back({a, v.value, it->second.min, true, what, false, w.address, -1});
-        else if (v.value > it->second.max) out.push_back({a, v.value, it->second.max, false, what, false, w.address, -1});
+        if (v.value < it->second.min) out.push_back({a, v.value, it->second.min, true, what, false, w.address, -1, ""});
+        else if (v.value > it->second.max) out.push_back({a, v.value, it->second.max, false, what, false, w.address, -1, ""});
     }
     return out;
 }

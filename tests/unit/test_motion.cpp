@@ -554,6 +554,50 @@ TEST_CASE("OSP301 fires when OZAGR goes below the Z travel and not when it stays
     CHECK(r[0].message.find("PZ-PI-PL = -298-5-5 = -308") != std::string::npos);
 }
 
+TEST_CASE("plane spans past [machine.travel]: reported once per axis and direction, with what they rest on") {
+    Config config;
+    config.travel['X'] = {-400, 400};
+    config.travel['Y'] = {-250, 250};
+    config.travel['Z'] = {-300, 150};
+    auto t = trace_text(kHead +
+                        "M54\n"
+                        "CALL OKYOX PX=370. PY=0 PR=2. PZ=-5. PI=40. PJ=10. PD=15\n"  // 6: slot X 370..410
+                        "CALL OKYOX PX=350. PY=0 PR=2. PZ=-5. PI=40. PJ=10. PD=15\n"  // 7: X 350..390, inside
+                        "CALL OKYOX PX=420. PY=0 PR=2. PZ=-5. PI=40. PJ=10. PD=15\n"  // 8: the start point is past
+                        "G98\n"
+                        "G88 X399. Y10. Z-30. R3. I1.5 J-0.5 Q0.3 F100\n"            // 10: X 399..400.5
+                        "G80\nM30\n",
+                        config);
+    auto slot = travel_violations(at_line(t, 6), config);
+    REQUIRE(slot.size() == 1);
+    CHECK(slot[0].axis == 'X');
+    CHECK(!slot[0].below);
+    CHECK(slot[0].value == doctest::Approx(410));
+    CHECK(slot[0].limit == doctest::Approx(400));
+    CHECK(slot[0].inferred);  // the start point taken as one end; a compensated contour
+    CHECK(slot[0].name == "PI");
+    CHECK(slot[0].note.find("reading") != std::string::npos);
+    CHECK(slot[0].note.find("compensation") != std::string::npos);
+    CHECK(travel_violations(at_line(t, 7), config).empty());
+    auto start = travel_violations(at_line(t, 8), config);
+    REQUIRE(start.size() == 1);  // the position, not the slot beyond it as well
+    CHECK(start[0].value == doctest::Approx(420));
+    CHECK(start[0].note.empty());
+    auto shift = travel_violations(at_line(t, 10), config);
+    REQUIRE(shift.size() == 1);
+    CHECK(shift[0].value == doctest::Approx(400.5));
+    CHECK(shift[0].name == "I");
+    CHECK(shift[0].inferred);
+    // OSP301 reports the span on the word that sets it, with the note
+    auto d = run_rule("OSP301", kHead + "G98\nG88 X399. Y10. Z-30. R3. I1.5 J-0.5 Q0.3 F100\nG80\nM30\n", config);
+    REQUIRE(d.size() == 1);
+    CHECK(d[0].range.start.line == 6);
+    CHECK(d[0].message.find("400.5") != std::string::npos);
+    bool noted = false;
+    for (const auto& n : d[0].notes) noted = noted || n.message.find("reading of the manual") != std::string::npos;
+    CHECK(noted);
+}
+
 TEST_CASE("OSP302 fires on an OLPEX whose PA+PK exceeds its stroke") {
     auto bad = run_rule("OSP302",
                         kHead + "CALL OLPEX PX=20. PY=0 PR=2. PZ=-30. PI=60. PQ=3. PA=22. PK=12. PJ=1.5\nM30\n", Config{});
