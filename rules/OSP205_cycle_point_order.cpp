@@ -1,5 +1,6 @@
 // OSP205 cycle-point-order: a fixed cycle (or G114) whose initial point, R point
 // and Z point are not in the order I >= R > Z along the cycle axis.
+#include <algorithm>
 #include <optional>
 #include <tuple>
 
@@ -27,7 +28,10 @@ class CyclePointOrder final : public RuleBase<CyclePointOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
 
-    void begin_program(RuleContext&, const ProgramView&) override { last_.reset(); }
+    void begin_program(RuleContext&, const ProgramView&) override {
+        last_.reset();
+        last_k_.reset();
+    }
 
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
@@ -48,6 +52,7 @@ public:
         for (const auto& st : b.statements)
             if (st.kind == StmtKind::CoordCalc) positions = true;
         if (!positions) return;
+        check_g77_k(ctx, v, *c, axis);
         const bool g17 = v.after.plane.is(Plane::G17);
         const bool incremental = v.after.distance.value == Distance::Incremental;
         const std::string name = fmt::format("G{}", c->code);
@@ -122,6 +127,49 @@ public:
     }
 
 private:
+    // G77: K, where the step motion changes to the pick motion, is a point on
+    // the way from R to the bottom (under G91 K and Z are both measured from
+    // R). K equal to R or Z is left alone.
+    void check_g77_k(RuleContext& ctx, const BlockView& v, const ActiveCycle& c, char axis) {
+        if (c.code != 77 || !c.macro.empty()) return;
+        auto it = c.words.find("K");
+        if (it == c.words.end() || !it->second.known || !c.r.known || !c.z.known || !v.after.distance.known) {
+            last_k_.reset();
+            return;
+        }
+        const bool incremental = v.after.distance.value == Distance::Incremental;
+        const double k = it->second.value;
+        const double r = incremental ? 0.0 : c.r.value;
+        const double z = c.z.value;
+        if (k <= std::max(r, z) && k >= std::min(r, z)) {
+            last_k_.reset();
+            return;
+        }
+        auto key = std::make_tuple(c.start_line, k, c.r.value, z);
+        if (last_k_ && *last_k_ == key) return;
+        last_k_ = key;
+        const std::string ax(1, axis);
+        const std::string where_k =
+            incremental ? fmt::format("under G91 K{} and {}{} are both measured from the R point", num(k), ax, num(z))
+                        : fmt::format("K{} is not between R{} and {}{}", num(k), num(r), ax, num(z));
+        const Word* k_word = find_address(v.block, "K");
+        ByteRange where = k_word ? k_word->range : !c.start_range.empty() && c.start_line == v.block.line
+                                                       ? c.start_range
+                                                       : v.block.range;
+        auto& d = ctx.report(kMeta, where,
+                             fmt::format("G77: K, the {} coordinate where the step motion changes to the pick motion, "
+                                         "must lie between R and the hole bottom ({}); {}",
+                                         ax, cite("fixed-cycles/g77"),
+                                         incremental ? where_k + ", and K is not between 0 and " + ax + num(z)
+                                                     : where_k));
+        d.notes.push_back({"the manual defines K as a point on the way from R to the bottom; that it must lie "
+                           "between them is inferred, not stated",
+                           std::nullopt});
+        if (c.start_line != v.block.line && !c.start_range.empty())
+            d.notes.push_back({"G77 was commanded here", ctx.resolve(c.start_range)});
+    }
+    std::optional<std::tuple<uint32_t, double, double, double>> last_k_;
+
     // The same violation is reported once, not on every hole block that repeats it.
     bool dedupe(const ActiveCycle* c, Val<double> i, double r, double z, bool have_z) {
         auto key = std::make_tuple(c->start_line, i.known, i.known ? i.value : 0.0, r, have_z ? z : 0.0, have_z);

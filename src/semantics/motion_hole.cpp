@@ -216,7 +216,7 @@ bool given_in_cycle(const Block& b, const ActiveCycle& c, const std::string& add
 
 // G77: K is where the step motion (G87) changes to the pick motion (G83);
 // under G91 it is measured from the R point, like Z. It lies between R and Z;
-// a K elsewhere is only a possible point, with a note.
+// a K elsewhere is only a possible point, with a note (OSP205 reports it).
 void add_g77_k(const Block& b, const ModalState& before, const ActiveCycle& c, const HoleLevels& l, Envelope& env) {
     const ArgValue k = cycle_word(b, before, c, "K");
     if (k.state == ArgValue::State::Absent) {
