@@ -91,6 +91,8 @@ struct PlaneSpan {
     bool compensated = false;  // a contour cut with cutter-radius compensation: the spindle
                                // centre runs inside it by the tool radius, which is not known
     std::string arg;           // the argument or address that sets its extent ("PC", "PI", "I")
+    bool either_way = false;   // the motion goes to one end or the other (a direction the
+                               // manual does not document): not checked against the travel
 };
 
 struct Envelope {

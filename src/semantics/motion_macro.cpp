@@ -357,7 +357,9 @@ void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane
         }
     }
     for (auto& [a, iv] : spread.spans())
-        env.plane_spans.push_back({a, iv, why + " (start point taken as one end)", true, compensated(spec), "PI"});
+        env.plane_spans.push_back({a, iv, why + " (start point taken as one end)", true, compensated(spec),
+                                   a == *along ? "PI" : spec.family == "keyway" ? "PJ" : "",
+                                   plane != Plane::G17 && a == *along});
 }
 
 void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup, Plane plane,

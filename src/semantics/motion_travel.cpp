@@ -49,6 +49,7 @@ std::string span_note(const PlaneSpan& s) {
 void plane_span_violations(const Envelope& env, const Config& config, std::vector<TravelViolation>& out) {
     std::map<std::pair<char, bool>, TravelViolation> farthest;
     for (const auto& s : env.plane_spans) {
+        if (s.either_way) continue;
         auto it = config.travel.find(s.axis);
         if (it == config.travel.end()) continue;
         const TravelLimit& t = it->second;

@@ -588,6 +588,19 @@ TEST_CASE("plane spans past [machine.travel]: reported once per axis and directi
     CHECK(shift[0].value == doctest::Approx(400.5));
     CHECK(shift[0].name == "I");
     CHECK(shift[0].inferred);
+    // outside G17 the direction of PI is not documented: the span both ways is not checked
+    auto g18 = trace_text("O1000\nG18\nG0 G90 X380. Z0\nG0 Y50.\nM54\n"
+                          "CALL OKYOX PX=0 PZ=0 PR=2. PY=380. PI=40. PJ=10. PD=15\nM30\n",
+                          config);
+    const Envelope& h = at_line(g18, 6);
+    bool either = false;
+    for (const auto& sp : h.plane_spans)
+        if (sp.axis == 'X') {
+            either = sp.either_way;
+            CHECK(sp.range.hi == doctest::Approx(420));
+        }
+    CHECK(either);
+    for (const auto& tv : travel_violations(h, config)) CHECK(tv.axis != 'X');
     // OSP301 reports the span on the word that sets it, with the note
     auto d = run_rule("OSP301", kHead + "G98\nG88 X399. Y10. Z-30. R3. I1.5 J-0.5 Q0.3 F100\nG80\nM30\n", config);
     REQUIRE(d.size() == 1);
