@@ -173,18 +173,41 @@ bool is_cycle_hole(const Block& b, const ModalState& before, const ModalState& a
            c.start_range.end <= b.range.end;
 }
 
+namespace {
+
+// Whether the block runs a catalog macro with an action sequence: a CALL, a
+// positioning block of an open MODIN (not under NCYL), a one-shot G-code macro.
+bool runs_macro(const Block& b, const MacroCall* call) {
+    if (b.kind != LineKind::Block || !call || !call->spec || call->spec->kind != SpecKind::Macro ||
+        call->spec->action.empty())
+        return false;
+    return call->kind == CallKind::Call ||
+           (call->kind == CallKind::ModinPositioning && !b.statement(StmtKind::Ncyl)) ||
+           (call->kind == CallKind::GCode && !is_cycle_macro(*call->spec));
+}
+
+}  // namespace
+
 std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                        const MacroCall* call, const Config& config) {
     if (b.kind != LineKind::Block) return std::nullopt;
-    if (call && call->spec && call->spec->kind == SpecKind::Macro && !call->spec->action.empty()) {
-        const MacroSpec& spec = *call->spec;
-        bool runs = call->kind == CallKind::Call ||
-                    (call->kind == CallKind::ModinPositioning && !b.statement(StmtKind::Ncyl)) ||
-                    (call->kind == CallKind::GCode && !is_cycle_macro(spec));
-        if (runs) return macro_envelope(b, before, after, *call, spec, config);
-    }
+    if (runs_macro(b, call)) return macro_envelope(b, before, after, *call, *call->spec, &config);
     if (is_cycle_hole(b, before, after, call)) return hole_envelope(b, before, after, config);
     return std::nullopt;
+}
+
+std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
+                                                 const MacroCall* call) {
+    if (!runs_macro(b, call)) return std::nullopt;
+    const MacroSpec& spec = *call->spec;
+    // Under G91 a macro that does not support it moves elsewhere; in inch a
+    // mm-only macro takes the values as mm: the envelope is a reading then.
+    if (before.distance.is(Distance::Incremental) && spec.g91 == G91Mode::Unsupported) return std::nullopt;
+    if (!before.distance.known && spec.g91 == G91Mode::Unsupported) return std::nullopt;
+    if (!before.units.is(Units::Mm) && spec.units == MacroUnits::MmOnly) return std::nullopt;
+    std::optional<Envelope> env = macro_envelope(b, before, after, *call, spec, nullptr);
+    if (!env || !env->plane || !env->end.known) return std::nullopt;
+    return std::pair{env->axis, env->end.value};
 }
 
 std::optional<Envelope> cycle_envelope(const BlockView& v, const Config& config) {

@@ -25,6 +25,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "semantics/config.h"
@@ -134,6 +135,14 @@ bool is_cycle_hole(const Block& block, const ModalState& before, const ModalStat
 std::optional<Envelope> cycle_envelope(const Block& block, const ModalState& before, const ModalState& after,
                                        const MacroCall* call, const Config& config);
 std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& config);
+
+// Where a catalog macro the block runs (a CALL, a positioning block of an open
+// MODIN, a one-shot G-code macro) leaves the tool on the cycle axis: the axis
+// and the last point of its action sequence, when that point is definite and
+// known (`Envelope::end`); nullopt otherwise. The + travel limit (M52) needs
+// `[machine.travel]`, which the transfer function does not have: nullopt.
+std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
+                                                 const MacroCall* call);
 
 // A point outside `[machine.travel]`.
 struct TravelViolation {

@@ -82,8 +82,9 @@ std::string mark_for(const std::string& expr);
 // Sets the extremes and the bounds of an envelope from its points.
 void finish(Envelope& env);
 
+// `config` nullptr: the + travel limit (M52) is not known.
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config& config);
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config);
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                       const Config& config);
 

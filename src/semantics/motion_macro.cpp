@@ -21,7 +21,7 @@ struct MacroRun {
     const ModalState& after;
     const MacroCall& call;
     const MacroSpec& spec;
-    const Config& config;
+    const Config* config;  // nullptr: the + travel limit is not known
     Plane plane;
     char axis;  // the cycle axis
 
@@ -156,7 +156,7 @@ void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, Act
     p.limit = true;
     p.mark = "+lim";
     p.expr = std::string(1, env.axis) + "+ limit";
-    if (auto mx = travel_max(run.config, env.axis)) {
+    if (auto mx = run.config ? travel_max(*run.config, env.axis) : std::nullopt) {
         p.worked = num(*mx) + " ([machine.travel] " + std::string(1, static_cast<char>(std::tolower(env.axis))) +
                    " max)";
         if (p.possible) p.reach = Interval{*mx, *mx};
@@ -376,7 +376,7 @@ void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup,
 }  // namespace
 
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config& config) {
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config) {
     Envelope env;
     env.source = MotionSource::Macro;
     env.name = spec.name;

@@ -13,6 +13,7 @@
 
 #include "catalog/catalog.h"
 #include "semantics/eval.h"
+#include "semantics/motion.h"
 #include "semantics/summary.h"
 #include "semantics/transfer_internal.h"
 
@@ -688,6 +689,11 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     apply_tool_position(f, cycle_code, positions_unknown, s);
     apply_statements(f, catalog, s);
     apply_assignments(f, s);
+    // A catalog macro's action sequence says where it leaves the cycle axis;
+    // the other axes stay unknown after it.
+    if (f.runs_program)
+        if (auto end = macro_end(b, before, s, call))
+            if (Val<double>* ax = s.axis_ref(end->first)) *ax = Val<double>::of(end->second);
     // G90/G91 and G20/G21 set by a user subprogram this block calls: set at the call.
     if (call && call->summary) {
         auto origin = [&](const auto& effect, auto& origins) {

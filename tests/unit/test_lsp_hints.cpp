@@ -68,9 +68,9 @@ TEST_CASE("lsp: inlay hints: the cycle axis's reach after a call or a hole, an e
         CHECK((*call2)["position"] == pos(4, end_of(kLines[4], utf8)));
         // A literal argument gets no value hint.
         CHECK_FALSE(find(2, "= -20"));
-        // The G81 hole: its Z and R points; the start (I point) is not known, so each
-        // shown end is a bound the motion may pass.
-        CHECK(find(5, "\xE2\xA4\x93 \xE2\x89\xA4Z-3 \xE2\xA4\x92 \xE2\x89\xA5Z3"));
+        // The G81 hole: the CALL before it leaves Z at its last step, PR = 5, so the
+        // I point is known: from Z5 down to Z-3.
+        CHECK(find(5, "\xE2\xA4\x93 Z-3 \xE2\xA4\x92 Z5"));
         CHECK(hints.size() == 4);
 
         // A range: only its lines.

@@ -509,6 +509,31 @@ TEST_CASE("G77 K, G83 J and G88 Q/K/I/J add their points to I -> R -> Z") {
     CHECK(fk.notes.size() == 2);
 }
 
+TEST_CASE("after a macro call the cycle axis is where the last definite step of its sequence leaves it") {
+    Config config = travel_z(-300, 150);
+    auto t = trace_text(kHead +
+                        "CALL OZAGR PX=0 PY=120. PR=5. PZ=-20. PI=5.\n"         // 5: step 10, PR = 5
+                        "G98\n"
+                        "G81 X10. Y10. Z-20. R3. F100\n"                         // 7: its I point is that 5
+                        "G80\n"
+                        "CALL OM100 PX=10. PY=0 PR=5. PZ=-20. PI=4. PM=52\n"     // 9: to the + limit
+                        "G91\n"
+                        "CALL OKYLX PX=0 PY=0 PR=2. PZ=-6. PI=40. PJ=14. PD=16\n" // 11: not usable under G91
+                        "G90\n"
+                        "CALL OZAGR PX=0 PY=120. PR=VC1 PZ=-20. PI=5.\n"        // 13: PR not known
+                        "M30\n",
+                        config);
+    const auto& call = t.analysis.at(5);
+    CHECK(call.after.z.is(5));
+    CHECK(!call.after.x.known);  // the plane position stays unknown
+    CHECK(at_line(t, 7).start.is(5));
+    CHECK(high_point(at_line(t, 7)).step == "I");
+    // the + travel limit is not known to the transfer function, even with [machine.travel]
+    CHECK(!t.analysis.at(9).after.z.known);
+    CHECK(!t.analysis.at(11).after.z.known);
+    CHECK(!t.analysis.at(13).after.z.known);
+}
+
 TEST_CASE("unknown values stay unknown") {
     auto t = trace_text(kHead +
                         "CALL OZAGR PR=5. PZ=VC1 PI=6.\n"
