@@ -205,7 +205,7 @@ std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalStat
     if (before.distance.is(Distance::Incremental) && spec.g91 == G91Mode::Unsupported) return std::nullopt;
     if (!before.distance.known && spec.g91 == G91Mode::Unsupported) return std::nullopt;
     if (!before.units.is(Units::Mm) && spec.units == MacroUnits::MmOnly) return std::nullopt;
-    std::optional<Envelope> env = macro_envelope(b, before, after, *call, spec, nullptr);
+    std::optional<Envelope> env = macro_envelope(b, before, after, *call, spec, nullptr, /*describe=*/false);
     if (!env || !env->plane || !env->end.known) return std::nullopt;
     return std::pair{env->axis, env->end.value};
 }

@@ -27,7 +27,8 @@ bool zero_when_absent(const ArgSpec& a) {
 
 }  // namespace
 
-Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional) {
+Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional,
+                        bool describe) {
     Evaluated out;
     auto terms = parse_catalog_expr(text);
     if (!terms) {
@@ -73,13 +74,18 @@ Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lo
             }
             if (av.state == ArgValue::State::Known) {
                 v = av.value;
-                if (!av.how.empty()) notes += (notes.empty() ? "" : "; ") + t.name + " " + av.how;
+                if (describe && !av.how.empty()) notes += (notes.empty() ? "" : "; ") + t.name + " " + av.how;
             }
         }
+        sum += t.sign * v;
+        if (!describe) continue;
         if (piece.empty()) piece = k == 0 ? (t.sign < 0 ? "-" + paren(v) : num(v)) : (t.sign < 0 ? "-" : "+") + paren(v);
         else piece = (k == 0 ? (t.sign < 0 ? "-" : "") : (t.sign < 0 ? "-" : "+")) + piece;
         shown += piece;
-        sum += t.sign * v;
+    }
+    if (!describe) {
+        if (known) out.value = Val<double>::of(sum);
+        return out;
     }
     if (known) {
         out.value = Val<double>::of(sum);

@@ -69,7 +69,9 @@ using Lookup = std::function<ArgValue(const std::string&)>;
 // Evaluates a catalog expression (a sum of argument names and numbers) with
 // the argument values `lookup` gives. `conditional`: the step has a `when`, so
 // an argument that is not given skips it.
-Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional);
+// `describe` false: only the value and whether the step is skipped (no text).
+Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional,
+                        bool describe = true);
 // The address an argument of a G-code macro is written with (OG84L: "L" for L).
 std::string addr_of(const MacroSpec& spec, const std::string& name);
 // The argument of the call that gives `name` (by its name or an alias).
@@ -82,9 +84,11 @@ std::string mark_for(const std::string& expr);
 // Sets the extremes and the bounds of an envelope from its points.
 void finish(Envelope& env);
 
-// `config` nullptr: the + travel limit (M52) is not known.
+// `config` nullptr: the + travel limit (M52) is not known. `describe` false:
+// only `end` is set (no points, notes or plane spans), for the transfer step.
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config* config);
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config,
+                                       bool describe = true);
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                       const Config& config);
 

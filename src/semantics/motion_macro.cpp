@@ -24,6 +24,7 @@ struct MacroRun {
     const Config* config;  // nullptr: the + travel limit is not known
     Plane plane;
     char axis;  // the cycle axis
+    bool describe = true;  // false: values only, no text (the transfer step's end point)
 
     // The value of an argument: as written, the default, or (for a cycle-axis
     // argument that is omitted) the current position.
@@ -36,7 +37,8 @@ struct MacroRun {
                 out.value = m->value.value;
             } else {
                 out.state = ArgValue::State::Unknown;
-                out.how = m->word ? "value of \"" + m->word->value_text + "\" not known" : "value not known";
+                if (describe)
+                    out.how = m->word ? "value of \"" + m->word->value_text + "\" not known" : "value not known";
             }
             return out;
         }
@@ -44,7 +46,7 @@ struct MacroRun {
         if (as->default_value) {
             out.state = ArgValue::State::Known;
             out.value = *as->default_value;
-            out.how = "not given: default " + num(*as->default_value);
+            if (describe) out.how = "not given: default " + num(*as->default_value);
             return out;
         }
         if (as->omitted == ArgOmitted::Current && as->role == ArgRole::Cycle) {
@@ -52,10 +54,11 @@ struct MacroRun {
             if (cur.known) {
                 out.state = ArgValue::State::Known;
                 out.value = cur.value;
-                out.how = "not given: current position " + num(cur.value);
+                if (describe) out.how = "not given: current position " + num(cur.value);
             } else {
                 out.state = ArgValue::State::Unknown;
-                out.how = "not given, and the current " + std::string(1, axis) + " position is not known";
+                if (describe)
+                    out.how = "not given, and the current " + std::string(1, axis) + " position is not known";
             }
         }
         return out;
@@ -201,6 +204,36 @@ void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
         env.points.push_back(std::move(p));
     }
     if (!walk.end_known) env.end = Val<double>{};
+}
+
+// The `Envelope::end` walk_action leaves, without the points: only the last
+// step that runs decides it (a step whose condition is not false and whose
+// arguments are given), so the steps are read from the end and one or two
+// are evaluated, as values only. The transfer step calls it on every macro
+// call; the tests hold it to walk_action on the corpus.
+Val<double> action_end(const MacroRun& run, const Lookup& lookup, char axis) {
+    const std::function<Tri(const ConditionAtom&)> atom = [&](const ConditionAtom& a) { return run.atom(a); };
+    const auto& steps = run.spec.action;
+    for (auto it = steps.rbegin(); it != steps.rend(); ++it) {
+        const ActionStep& step = *it;
+        const Tri cond = step.when.eval(atom);
+        if (cond == Tri::False) continue;
+        if (!step.target.empty()) {
+            Evaluated e = evaluate_expr(step.target, &run.spec, lookup, !step.when.empty(), false);
+            if (e.skip) continue;
+            return cond == Tri::True ? e.value : Val<double>{};
+        }
+        if (!step.by.empty()) {
+            if (evaluate_expr(step.by, &run.spec, lookup, false, false).skip) continue;
+            return {};  // a stroke of unprinted direction
+        }
+        if (contains_ci(step.text, "+ limit")) {
+            if (cond != Tri::True || !run.config) return {};
+            auto mx = travel_max(*run.config, axis);
+            return mx ? Val<double>::of(*mx) : Val<double>{};
+        }
+    }
+    return {};
 }
 
 // The positioning plane: the start point / hole centre, per axis (the block's
@@ -376,7 +409,8 @@ void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup,
 }  // namespace
 
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config* config) {
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config,
+                                       bool describe) {
     Envelope env;
     env.source = MotionSource::Macro;
     env.name = spec.name;
@@ -397,8 +431,12 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
     env.axis = plane_axes(plane).cycle;
     env.start = before.axis(env.axis);
 
-    const MacroRun run{b, before, after, call, spec, config, plane, env.axis};
+    const MacroRun run{b, before, after, call, spec, config, plane, env.axis, describe};
     const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
+    if (!describe) {
+        env.end = action_end(run, lookup, env.axis);
+        return env;
+    }
     walk_action(run, lookup, env);
     if (spec.g91 == G91Mode::Unsupported && env.incremental)
         env.notes.push_back(spec.name + " does not work under G91 (its motion is shifted); the envelope is the G90 reading");
