@@ -19,19 +19,23 @@ public:
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
         if (!spec) return;
+        if (c->m_codes.empty()) return;
         std::vector<int> codes;
-        std::string what, source;
+        std::string what;
+        bool subprogram = false;
         if ((c->kind == CallKind::Call || c->kind == CallKind::Modin) && macro::is_subprogram_macro(*spec)) {
             codes = {3, 4, 7, 8, 12};
             what = "the subprogram call block";
-            source = macro::common_ref(ctx.catalog(), *spec, "M7/M8/M12");
+            subprogram = true;
         } else if (c->kind == CallKind::GCode && !spec->cancel.empty()) {
             codes = {7, 8, 12};
             what = "the declaration block";
-            source = cite("tap-cycle/cautions-4");
         } else {
             return;
         }
+        auto source = [&] {
+            return subprogram ? macro::common_ref(ctx.catalog(), *spec, "M7/M8/M12") : cite("tap-cycle/cautions-4");
+        };
         for (int code : codes) {
             const Word* w = macro::m_code(*c, code);
             if (!w) continue;
@@ -43,7 +47,7 @@ public:
                                               : "the cut may run without coolant") +
                                      "; command it on the block before");
             d.notes.push_back({"\"M3/4 and M7/8/12 codes commanded in the subprogram call block may be ignored\" (" +
-                                   source + ")",
+                                   source() + ")",
                                std::nullopt});
         }
     }

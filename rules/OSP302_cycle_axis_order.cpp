@@ -37,7 +37,8 @@ struct Side {
     ByteRange range;
 };
 
-Side evaluate_side(const std::string& text, const std::function<Value(const std::string&)>& lookup) {
+// `describe` false: the value only (most relations hold, and then no text is needed).
+Side evaluate_side(const std::string& text, const std::function<Value(const std::string&)>& lookup, bool describe) {
     Side s;
     auto terms = parse_catalog_expr(text);
     if (!terms) return s;
@@ -50,17 +51,18 @@ Side evaluate_side(const std::string& text, const std::function<Value(const std:
             Value x = lookup(t.name);
             if (!x.known) return s;
             v = x.value;
-            if (!x.how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + x.how;
+            if (describe && !x.how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + x.how;
             s.current = s.current || x.current;
             if (s.range.empty() && !x.range.empty()) s.range = x.range;
         }
+        sum += t.sign * v;
+        if (!describe) continue;
         std::string num = v < 0 && (i > 0 || t.sign < 0) ? "(" + motion_number(v) + ")" : motion_number(v);
         shown += (i == 0 ? (t.sign < 0 ? "-" : "") : (t.sign < 0 ? "-" : "+")) + num;
-        sum += t.sign * v;
     }
     s.known = true;
     s.value = sum;
-    s.shown = terms->size() == 1 ? motion_number(sum) : shown + " = " + motion_number(sum);
+    if (describe) s.shown = terms->size() == 1 ? motion_number(sum) : shown + " = " + motion_number(sum);
     return s;
 }
 
@@ -96,6 +98,7 @@ public:
         if (v.before.plane.known) plane = v.before.plane.value;
         const char axis = plane ? plane_axes(*plane).cycle : 0;
 
+        bool describe = false;  // the `how` of each value: only for a finding
         auto lookup = [&](const std::string& name) -> Value {
             Value out;
             const ArgSpec* a = spec->arg(name);
@@ -110,7 +113,7 @@ public:
             if (a->default_value) {
                 out.known = true;
                 out.value = *a->default_value;
-                out.how = "not given: default " + motion_number(*a->default_value);
+                if (describe) out.how = "not given: default " + motion_number(*a->default_value);
             } else if (a->omitted == ArgOmitted::Current && a->role == ArgRole::Cycle && axis) {
                 // Only meaningful where the macro runs (a CALL line, a MODIN positioning block).
                 if (c->kind == CallKind::Modin) return out;
@@ -119,12 +122,13 @@ public:
                 out.known = true;
                 out.value = cur.value;
                 out.current = true;
-                out.how = "not given: the current " + std::string(1, axis) + " position " + motion_number(cur.value);
+                if (describe)
+                    out.how = "not given: the current " + std::string(1, axis) + " position " + motion_number(cur.value);
             } else if (a->omitted == ArgOmitted::None &&
                        (a->role == ArgRole::Length || a->role == ArgRole::Stroke || a->role == ArgRole::Shift)) {
                 out.known = true;
                 out.value = 0;
-                out.how = "not given: 0";
+                if (describe) out.how = "not given: 0";
             }
             return out;
         };
@@ -139,16 +143,20 @@ public:
                 return a && macro::given(*c, *a) ? Tri::True : Tri::False;
             });
             if (applies != Tri::True) continue;
-            Side l = evaluate_side(r.left, lookup), rt = evaluate_side(r.right, lookup);
+            Side l = evaluate_side(r.left, lookup, false), rt = evaluate_side(r.right, lookup, false);
             if (!l.known || !rt.known) continue;
             const bool uses_current = l.current || rt.current;
             // On positioning blocks of an open MODIN only the relations that
             // depend on the current position are new; report those once per MODIN.
             if (c->kind == CallKind::ModinPositioning) {
                 if (!uses_current) continue;
-                if (!reported_.insert({c->modin_line, i}).second) continue;
+                if (reported_.count({c->modin_line, i})) continue;
             }
             if (relation_holds(l.value, r.op, rt.value)) continue;
+            describe = true;
+            l = evaluate_side(r.left, lookup, true);
+            rt = evaluate_side(r.right, lookup, true);
+            describe = false;
             report(ctx, v, *spec, r, l, rt, plane, axis);
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
         }
