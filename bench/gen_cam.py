@@ -27,6 +27,11 @@ Shapes (--shape), from the easiest for a checker to the hardest:
             findings per 20 MB. Without that setting it is clean.
   bigloop   plain with the whole main program inside one loop (N1 ... IF
             [VC1 LT 3] N1): the engine walks all of it at least twice.
+  macros    a plate of features machined with the shop's macros only: back
+            spotfaces (CALL OZAGR), burr removal (CALL OM100), key slots
+            (CALL OKYOY), back counterbores as a modal call with a
+            positioning block per hole (MODIN OG87N), tapping with G114 and
+            M204: every block runs a macro and every rule reads its arguments.
 
 Only the travel shape gives findings on purpose. In loops, the loops jump to
 sequence names that repeat (N1, N2, ... again after each tool change): OSP006
@@ -39,7 +44,7 @@ import math
 import random
 import sys
 
-SHAPES = ("plain", "numbered", "loops", "travel", "bigloop")
+SHAPES = ("plain", "numbered", "loops", "travel", "bigloop", "macros")
 TRAVEL_SHIFT = -400.0  # below the Z minimum -300 of examples/osplint.toml
 
 
@@ -561,6 +566,84 @@ def generate_loops(size, seed, out):
     w.flush()
 
 
+# --- The macros shape --------------------------------------------------------
+#
+# Rows of features on a plate, each operation a tool change and then one
+# macro block per feature, at positions that vary from row to row.
+
+def macro_rows(w, rng, reserve):
+    """One tool and one row of features per call, the macro picked in turn."""
+    ops = ("ozagr", "om100", "okyoy", "og87n", "g114")
+    k = 0
+    while not w.full(reserve):
+        op = ops[k % len(ops)]
+        k += 1
+        y = fmt(-40.0 + 10.0 * rng.randint(0, 8))
+        xs = [fmt(-60.0 + 0.5 * rng.randint(0, 240)) for _ in range(rng.randint(20, 60))]
+        if op == "ozagr":
+            w.line("(T31 BIG BACK C'BORE BAR - BACK SPOTFACES D18 X 3 ON D9 HOLES)")
+            w.line("T31 M6")
+            w.line("G0 G90 X0 Y0")
+            w.line("G56 Z50. H31")
+            w.line("S600 M3")
+            for x in xs:
+                w.line("CALL OZAGR PX=%s PY=%s PR=5. PZ=-29. PI=6. PJ=1.5 PF=50 PFA=400 PFB=200 PP=.3 PS=600"
+                       % (x, y))
+        elif op == "om100":
+            w.line("(T32 BURRAWAY D8 - FRONT AND BACK CHAMFER)")
+            w.line("T32 M6")
+            w.line("G0 G90 X0 Y0")
+            w.line("G56 Z50. H32")
+            w.line("S1200 M3")
+            for x in xs:
+                w.line("CALL OM100 PX=%s PY=%s PR=5. PZ=-32. PI=4. PK=12. PF=150 PFA=600 PS=1200 PT=35."
+                       % (x, y))
+        elif op == "okyoy":
+            w.line("(T6 D8 END MILL - KEY SLOTS 20 X 8)")
+            w.line("T6 M6")
+            w.line("G0 G90 X0 Y0")
+            w.line("G56 Z50. H6")
+            w.line("S3000 M3")
+            for x in xs:
+                w.line("CALL OKYOY PX=%s PY=%s PR=2. PZ=-5. PI=20. PJ=8. PD=6 PF=250 PFA=80 PS=3000" % (x, y))
+        elif op == "og87n":
+            w.line("(T33 BACK C'BORE NOTCHED BAR - MODAL CALL, A HOLE PER BLOCK)")
+            w.line("T33 M6")
+            w.line("G0 G90 X0 Y0")
+            w.line("G56 Z50. H33")
+            w.line("S500 M3")
+            w.line("MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500")
+            for x in xs:
+                w.line("X%s Y%s" % (x, y))
+            w.line("MODOUT")
+        else:
+            w.line("(T7 M10 TAP - AUTO-REVERSE TAPPER)")
+            w.line("T7 M6")
+            w.line("G0 G90 X0 Y0")
+            w.line("G56 Z50. H7")
+            w.line("S400 M3")
+            w.line("G98 G114 X%s Y%s R10. Z-21.5 L1.5 P.5 F600 FA=650" % (xs[0], y))
+            for x in xs:
+                w.line("X%s Y%s" % (x, y))
+            w.line("M204")
+        w.line("G0 Z100.")
+        w.line("M5")
+
+
+def generate_macros(size, seed, out):
+    rng = random.Random(seed)
+    w = Writer(out, size)
+    w.line("%")
+    w.line("O7700 (PLATE 7700 - SHOP MACROS ON EVERY FEATURE)")
+    w.line("(POST: GENERIC OSP-P300M  UNITS MM)")
+    w.line("G15 H1")
+    macro_rows(w, rng, 200)
+    w.line("G30 P1")
+    w.line("M30")
+    w.line("%")
+    w.flush()
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--size-mb", type=float, default=1.0, help="approximate size in MB (10^6 bytes)")
@@ -578,6 +661,8 @@ def main():
     def run(f):
         if args.shape == "loops":
             generate_loops(size, args.seed, f)
+        elif args.shape == "macros":
+            generate_macros(size, args.seed, f)
         else:
             generate(size, args.seed, f, numbered=args.shape == "numbered",
                      zshift=TRAVEL_SHIFT if args.shape == "travel" else 0.0, bigloop=args.shape == "bigloop")

@@ -3,7 +3,7 @@
 # shape, then the language server (bench/lsp_edit.cpp).
 #
 #     bench/run.sh [--osplint BIN] [--lsp-edit BIN] [--dir DIR] [--repeat N] [--sizes "1 10 100"]
-#                  [--shapes "plain numbered loops travel bigloop"] [--no-lsp]
+#                  [--shapes "plain numbered loops travel bigloop macros"] [--no-lsp]
 #
 # Builds osplint and lsp_edit (Release, in DIR/build, unless --osplint names a
 # binary: lsp_edit is then taken from the same directory, or --lsp-edit) and
@@ -31,11 +31,11 @@ osplint=""
 lsp_edit=""
 repeat=3
 sizes="1 10 100"
-shapes="plain numbered loops travel bigloop"
+shapes="plain numbered loops travel bigloop macros"
 lsp=1
 formats="text json sarif gcc github"
 usage='usage: bench/run.sh [--osplint BIN] [--lsp-edit BIN] [--dir DIR] [--repeat N] [--sizes "1 10 100"]
-                    [--shapes "plain numbered loops travel bigloop"] [--no-lsp]'
+                    [--shapes "plain numbered loops travel bigloop macros"] [--no-lsp]'
 while (($#)); do
   case $1 in
     --osplint) osplint=$(realpath "$2"); shift 2 ;;
