@@ -45,13 +45,6 @@ std::string closest_match(std::string_view word, const std::vector<std::string_v
     return best;
 }
 
-bool iequals(std::string_view a, std::string_view b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i)
-        if (ascii_upper(a[i]) != ascii_upper(b[i])) return false;
-    return true;
-}
-
 std::string_view trim_blanks(std::string_view s) {
     size_t b = 0, e = s.size();
     while (b < e && is_blank(s[b])) ++b;

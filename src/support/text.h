@@ -15,7 +15,12 @@ inline char ascii_lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char
 // ASCII upper case of `s` (bytes outside a-z unchanged).
 std::string upper(std::string_view s);
 // Equal ignoring ASCII case.
-bool iequals(std::string_view a, std::string_view b);
+inline bool iequals(std::string_view a, std::string_view b) {  // inline: the catalog's lookups call it per argument
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (ascii_upper(a[i]) != ascii_upper(b[i])) return false;
+    return true;
+}
 // `s` without leading and trailing blanks (space, tab, form feed, vertical tab).
 std::string_view trim_blanks(std::string_view s);
 

@@ -103,14 +103,19 @@ OSPLINT_HOT uint32_t scan_number_at(const char* s, uint32_t p, uint32_t n, doubl
 // Keyword classes of the scanner, for a name in upper case.
 enum class Keyword : uint8_t { None, Call, Modin, Modout, Rts, Ncyl, Noex, Control, Function, Other };
 
-inline bool equals(const char* name, uint32_t len, const char* kw) {
-    return std::strlen(kw) == len && std::memcmp(name, kw, len) == 0;
+// The tables hold string_views: their lengths are known when compiled, so a
+// name of another length is passed over without reading the keyword.
+inline bool equals(const char* name, uint32_t len, std::string_view kw) {
+    if (kw.size() != len) return false;
+    for (uint32_t i = 0; i < len; ++i)  // a few bytes: no call to memcmp
+        if (name[i] != kw[i]) return false;
+    return true;
 }
 
 // Names the scanner turns into keyword tokens whatever follows them (when the
 // grammar expects them): the control keywords and the function names.
 inline Keyword control_keyword(const char* name, uint32_t len) {
-    static const std::pair<const char*, Keyword> kControl[] = {
+    static constexpr std::pair<std::string_view, Keyword> kControl[] = {
         {"CALL", Keyword::Call},    {"MODIN", Keyword::Modin},  {"MODOUT", Keyword::Modout},
         {"RTS", Keyword::Rts},      {"NCYL", Keyword::Ncyl},    {"NOEX", Keyword::Noex},
         {"GOTO", Keyword::Control}, {"IF", Keyword::Control},   {"WHILE", Keyword::Control},
@@ -120,26 +125,26 @@ inline Keyword control_keyword(const char* name, uint32_t len) {
         {"LE", Keyword::Control},   {"AND", Keyword::Control},  {"OR", Keyword::Control},
         {"EOR", Keyword::Control},
     };
-    static const char* const kFunctions[] = {"SIN",   "COS", "TAN", "ATAN",   "ATAN2", "SQRT", "ABS",  "BIN",
+    static constexpr std::string_view kFunctions[] = {"SIN",   "COS", "TAN", "ATAN",   "ATAN2", "SQRT", "ABS",  "BIN",
                                              "BCD",   "ROUND", "FIX", "FUP", "DROUND", "DFIX", "DFUP", "MOD"};
     for (const auto& [kw, k] : kControl)
         if (equals(name, len, kw)) return k;
-    for (const char* kw : kFunctions)
+    for (std::string_view kw : kFunctions)
         if (equals(name, len, kw)) return Keyword::Function;
     return Keyword::None;
 }
 
 // The binary operators spelled with letters.
 inline bool operator_keyword(const char* name, uint32_t len) {
-    static const char* const kOps[] = {"EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "EOR"};
-    for (const char* kw : kOps)
+    static constexpr std::string_view kOps[] = {"EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "EOR"};
+    for (std::string_view kw : kOps)
         if (equals(name, len, kw)) return true;
     return false;
 }
 
 // Names the scanner turns into command keywords unless `=` or `[` follows.
 inline bool command_keyword(const char* name, uint32_t len) {
-    static const char* const kWords[] = {
+    static constexpr std::string_view kWords[] = {
         // coordinate calculation
         "BHC", "LAA", "ARC", "GRDX", "GRDY", "DGRDX", "DGRDY", "SQRX", "SQRY", "OMIT", "RSTRT",
         // mnemonics
@@ -148,7 +153,7 @@ inline bool command_keyword(const char* name, uint32_t len) {
         // commands with free-form operands
         "DEF", "PT", "PUT", "FWRITC", "FOPENA", "FOPENB", "WRITE", "READ", "CLOSE", "PRNT", "SAVE", "EIN", "DIN",
         "RTI", "CYLNDR", "DIREC"};
-    for (const char* kw : kWords)
+    for (std::string_view kw : kWords)
         if (equals(name, len, kw)) return true;
     return false;
 }
