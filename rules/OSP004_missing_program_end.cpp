@@ -1,7 +1,10 @@
 // OSP004 missing-program-end: a main program without M02/M30, a subprogram without RTS.
 #include <cctype>
 
+#include <filesystem>
+
 #include "engine/rule.h"
+#include "semantics/summary.h"
 
 namespace osplint {
 namespace {
@@ -32,8 +35,9 @@ public:
         anchor_.reset();
         set_wants_plain_moves(true);
     }
-    void check_block(RuleContext&, const BlockView& v) override {
+    void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
+        if (v.call && v.call->summary && !v.call->summary->returns) report_no_return(ctx, *v.call);
         if (!anchor_ && b.kind == LineKind::Block && !b.is_empty())
             anchor_ = b.program_name ? b.program_name->range : b.range;
         if (b.statement(StmtKind::Rts)) has_rts_ = true;
@@ -43,6 +47,16 @@ public:
         // A plain move has neither M02/M30 nor RTS: once the anchor is known,
         // plain moves do not matter here.
         set_wants_plain_moves(!anchor_);
+    }
+
+    // A CALL of a subprogram (analysed from its file) that no path ends with RTS.
+    static void report_no_return(RuleContext& ctx, const MacroCall& c) {
+        const SubprogramSummary& s = *c.summary;
+        const std::string file = std::filesystem::path(s.file).filename().string();
+        ctx.report(kMeta, c.name_range,
+                   s.name + " (" + file + ", line " + std::to_string(s.line) +
+                       ") has no RTS on any path: it ends the program (M02/M30) or runs off its end, so control "
+                       "never returns here and the blocks after this CALL do not run; end " + s.name + " with RTS");
     }
     void end_program(RuleContext& ctx, const ProgramView& p) override {
         if (!anchor_) return;  // nothing but comments and tape marks

@@ -11,6 +11,7 @@ constexpr RuleMeta kMeta{
     .severity = Severity::Warning,
     .summary = "PM=52/M52 given outside G17: the macro returns to the Z+ limit only in G17",
     .category = RuleCategory::WrongMotion,
+    .reports_may = true,
 };
 
 // The action step that performs the upper-limit return "in G17 mode".
@@ -28,7 +29,9 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
-        if (!spec || !v.before.plane.known || v.before.plane.value == Plane::G17) return;
+        if (!spec || v.before.plane.is(Plane::G17)) return;
+        const Origin* may = v.before.plane.known ? nullptr : v.before.plane_from.find();
+        if (!v.before.plane.known && !may) return;
         const ActionStep* step = g17_only_return(*spec);
         if (!step) return;
         const MacroArg* pm = c->arg("PM");
@@ -44,11 +47,24 @@ public:
         } else {
             return;
         }
-        auto& d = ctx.report(kMeta, where,
-                             asked + " asks " + spec->name + " for the upper-limit return, but the plane is " +
-                                 plane_name(v.before.plane.value) + ": the macro returns to the Z+ limit only in " +
-                                 "G17 mode, so the tool stays at the return level; retract explicitly after the call");
-        d.notes.push_back({"step " + step->step + ": \"" + step->text + "\" (" + macro::source_ref(*spec, step->source) + ")", std::nullopt});
+        const std::string consequence = ": the macro returns to the Z+ limit only in G17 mode, so the tool stays at "
+                                        "the return level; retract explicitly after the call";
+        Diagnostic* d = nullptr;
+        if (may) {
+            // The paths that reach the call disagree on the plane, and one of
+            // them brings G18 or G19: a loop's jump or a branch.
+            d = report_may(ctx, kMeta, where,
+                           asked + " asks " + spec->name + " for the upper-limit return, but the plane may not be G17 "
+                               "here: " + macro::may_path(*may, "G18 or G19", "this call") +
+                               ", while other paths reach it in G17" + consequence);
+            if (!d) return;
+            macro::add_may_notes(ctx, *d, *may, "G18 or G19");
+        } else {
+            d = &ctx.report(kMeta, where,
+                            asked + " asks " + spec->name + " for the upper-limit return, but the plane is " +
+                                plane_name(v.before.plane.value) + consequence);
+        }
+        d->notes.push_back({"step " + step->step + ": \"" + step->text + "\" (" + macro::source_ref(*spec, step->source) + ")", std::nullopt});
     }
 };
 

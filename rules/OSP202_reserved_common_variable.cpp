@@ -31,6 +31,7 @@ struct Clobber {
     const MacroSpec* spec = nullptr;
     ByteRange range;
     uint32_t line = 0;
+    std::string via;  // the user subprogram that runs the macro ("O100"), or empty: the call runs it
 };
 
 class ReservedCommonVariable final : public RuleBase<ReservedCommonVariable> {
@@ -44,12 +45,16 @@ public:
         distinct_ = 0;
     }
 
-    void check_block(RuleContext&, const BlockView& v) override {
+    void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         if (const MacroCall* c = v.call; c && c->spec && c->spec->has(Hazard::OverwritesVc120To128) &&
                                          (c->kind == CallKind::Call || c->kind == CallKind::Modin ||
                                           c->kind == CallKind::GCode || c->kind == CallKind::MCode))
-            add_call({c->spec, macro::call_range(*c, b), b.line});
+            add_call({c->spec, macro::call_range(*c, b), b.line, {}});
+        // A user subprogram that runs such a macro overwrites them as well.
+        if (const MacroCall* c = v.call; c && c->summary && !c->summary->clobbers_reserved.empty())
+            if (const MacroSpec* spec = ctx.catalog().find(c->summary->clobbers_reserved))
+                add_call({spec, c->name_range, b.line, c->summary->name});
         std::vector<bool> is_target(b.exprs.size(), false);
         for (const auto& a : b.assignments)
             if (a.target >= 0 && static_cast<size_t>(a.target) < is_target.size()) is_target[a.target] = true;
@@ -79,7 +84,8 @@ public:
                     clobber_source(ctx.catalog(), *first.spec) +
                     "): a value kept there across the call is lost; use a common variable outside VC120-VC128");
             for (const auto& c : calls_) {
-                d.notes.push_back({c.spec->name + " overwrites " + var + " when it runs",
+                d.notes.push_back({(c.via.empty() ? c.spec->name : c.via + " runs " + c.spec->name + ", which") +
+                                       " overwrites " + var + " when it runs",
                                    ctx.resolve(c.range)});
             }
         }

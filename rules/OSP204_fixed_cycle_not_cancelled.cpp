@@ -13,10 +13,13 @@ constexpr RuleMeta kMeta{
     .severity = Severity::Warning,
     .summary = "A fixed cycle switched without G80, or still modal at the program end",
     .category = RuleCategory::WrongMotion,
+    .reports_may = true,
 };
 
 std::string cycle_name(const ActiveCycle& c) {
-    return c.macro.empty() ? fmt::format("G{}", c.code) : fmt::format("G{} ({})", c.code, c.macro);
+    std::string name = c.macro.empty() ? fmt::format("G{}", c.code) : fmt::format("G{} ({})", c.code, c.macro);
+    if (!c.via.empty()) name += " (left modal by the subprogram " + c.via + ")";
+    return name;
 }
 
 // How the cycle is cancelled: G80, or the registered cancel code of a macro cycle.
@@ -56,6 +59,7 @@ public:
         const ActiveCycle* c = active_cycle(*p.final_state);
         if (!c) {
             report_uncancelled(ctx, p);
+            report_may_uncancelled(ctx, p);
             return;
         }
         ByteRange where = c->start_range;
@@ -83,6 +87,7 @@ private:
         ActiveCycle c;
         c.code = o.code;
         c.macro = o.macro;
+        c.via = o.via;
         auto& d = ctx.report(kMeta, o.start,
                              cycle_name(c) + " is never cancelled before the program " +
                                  (p.is_subprogram ? "returns" : "ends") +
@@ -93,6 +98,25 @@ private:
         d.notes.push_back({"osplint reads the cycle as perhaps still modal after the interpolation code; positioning "
                            "blocks after it may machine holes",
                            std::nullopt});
+    }
+
+    // The paths that end the program disagree on whether a cycle was
+    // cancelled: a jump or a branch skips the G80 on one of them.
+    void report_may_uncancelled(RuleContext& ctx, const ProgramView& p) const {
+        const ModalState& s = *p.final_state;
+        if (s.uncancelled.known) return;
+        const Origin* o = s.cycle_from.find();
+        if (!o || !o->line || o->range.empty()) return;
+        Diagnostic* d = report_may(
+            ctx, kMeta, o->range,
+            "the fixed cycle started here may still be modal where the program " +
+                std::string(p.is_subprogram ? "returns" : "ends") + ": " +
+                (o->via_line ? "the path through the jump at line " + std::to_string(o->via_line)
+                             : std::string("a path from this line")) +
+                " reaches the end with no G80 after it (\"check that the G80 cancel code is commanded\", " +
+                cite("fixed-cycles/alarms") + "); command G80 on every path after the last hole");
+        if (d && o->via_line && !o->via_range.empty())
+            d->notes.push_back({"the path without G80 jumps here", ctx.resolve(o->via_range)});
     }
 
     std::optional<ByteRange> end_block_;

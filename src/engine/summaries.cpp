@@ -4,21 +4,48 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <set>
+
 #include "engine/engine.h"
+#include "semantics/eval.h"
 #include "support/io.h"
 
 namespace osplint {
 
 namespace {
 
-// Keeps the state where the walk of one program ends.
+// Keeps the state where the walk of one program ends, and what its reachable
+// blocks do beyond the modal state: the common variables they assign, the
+// macros they run that overwrite VC120-VC128, their RTS, and whether any of
+// them starts or ends a fixed cycle or a modal call.
 class EndOfProgram final : public BlockObserver {
 public:
     explicit EndOfProgram(std::string_view name) : name_(name) {}
-    bool block(const BlockView&, const LineRef&) override { return true; }
+    void program(const Program& program, bool) override { in_ = !found_ && program.name == name_; }
+    bool block(const BlockView& v, const LineRef&) override {
+        if (!in_ || !v.reachable) return true;
+        const Block& b = v.block;
+        if (b.statement(StmtKind::Rts)) returns_ = true;
+        for (const auto& a : b.assignments) {
+            const auto key = variable_key(b, a.target, v.before);
+            if (!key) {
+                writes_any_ = true;  // a computed name: any variable
+            } else if (auto n = common_variable_number(*key)) {
+                writes_.insert(*n);
+            }
+        }
+        if (const MacroCall* c = v.call) {
+            if (c->kind == CallKind::Call && !c->spec) writes_any_ = true;  // a subprogram it calls in turn
+            if (c->spec && c->spec->has(Hazard::OverwritesVc120To128) && clobbers_.empty()) clobbers_ = c->spec->name;
+        }
+        if (!(v.before.uncancelled == v.after.uncancelled)) cycle_touched_ = true;
+        if (!(v.before.modin == v.after.modin)) modin_touched_ = true;
+        return true;
+    }
     void program_end(const Program& program, const ModalState* final_state) override {
         if (found_ || program.name != name_) return;
         found_ = true;
+        in_ = false;
         line_ = program.first_block + 1;
         if (final_state) end_ = *final_state;
     }
@@ -26,11 +53,40 @@ public:
     uint32_t line() const { return line_; }
     const ModalState* end() const { return end_ ? &*end_ : nullptr; }
 
+    // Adds what the blocks do to a summary made from the end states.
+    void add_to(SubprogramSummary& s, const ModalState& end0, const ModalState& end1) const {
+        s.returns = returns_;
+        s.writes_any = writes_any_;
+        s.clobbers_reserved = clobbers_;
+        for (int n : writes_) {
+            const std::string key = "VC" + std::to_string(n);
+            auto a = end0.vars.find(key), b = end1.vars.find(key);
+            std::optional<double> v;
+            if (a != end0.vars.end() && b != end1.vars.end() && a->second == b->second) v = a->second;
+            s.writes[n] = v;
+        }
+        // Left "as it came" in both walks, but some block changes it: it is
+        // cancelled or opened on some paths only, which is not known.
+        if (cycle_touched_ && s.uncancelled.kind == ModeEffect<std::optional<OpenCycle>>::Kind::Kept) {
+            s.uncancelled.kind = ModeEffect<std::optional<OpenCycle>>::Kind::Unknown;
+            s.cycle.kind = ModeEffect<std::optional<ActiveCycle>>::Kind::Unknown;
+        }
+        if (modin_touched_ && s.modin.kind == ModeEffect<std::optional<ActiveModin>>::Kind::Kept)
+            s.modin.kind = ModeEffect<std::optional<ActiveModin>>::Kind::Unknown;
+    }
+
 private:
     std::string_view name_;
+    bool in_ = false;
     bool found_ = false;
     uint32_t line_ = 0;
     std::optional<ModalState> end_;
+    bool returns_ = false;
+    bool writes_any_ = false;
+    std::set<int> writes_;
+    std::string clobbers_;
+    bool cycle_touched_ = false;
+    bool modin_touched_ = false;
 };
 
 }  // namespace
@@ -58,12 +114,13 @@ std::optional<SubprogramSummary> SubprogramSummaries::make(const Config& config,
                                                            std::string_view name) {
     std::optional<ModalState> ends[2];
     uint32_t line = 0;
+    std::optional<EndOfProgram> last;
     for (int which = 0; which < 2; ++which) {
         const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
         if (fd < 0) return std::nullopt;
         FdSource src(fd, std::nullopt);
         const ModalState entry = summary_probe(which);
-        EndOfProgram end(name);
+        EndOfProgram& end = last.emplace(name);
         EngineOptions options;
         options.rules = &rules_;
         options.run_rules = false;
@@ -78,6 +135,7 @@ std::optional<SubprogramSummary> SubprogramSummaries::make(const Config& config,
         line = end.line();
     }
     SubprogramSummary s = summarize(&*ends[0], &*ends[1]);
+    last->add_to(s, *ends[0], *ends[1]);
     s.name = std::string(name);
     s.file = file.string();
     s.line = line;

@@ -71,26 +71,29 @@ bool Origin::before(const Origin& o) const {
 }
 
 namespace {
-template <class O>
-void merge_jumped(O& own, O from, uint32_t line, ByteRange range) {
-    from.jumped(line, range);
-    own.merge(from);
+// Calls f(a.x, b.x) on every origin field x of two states.
+template <class F>
+void each_origin_pair(ModalState& a, const ModalState& b, F&& f) {
+    f(a.g91_from, b.g91_from);
+    f(a.g20_from, b.g20_from);
+    f(a.g60_from, b.g60_from);
+    f(a.plane_from, b.plane_from);
+    f(a.cycle_from, b.cycle_from);
+    f(a.modin_from, b.modin_from);
 }
 }  // namespace
 
 void ModalState::merge_jump(const ModalState& o, uint32_t line, ByteRange range) {
     // As merge, with o's origins marked by the jump: merge takes them unmarked,
     // so ours are put back and the marked ones merged in.
-    const auto g91 = g91_from;
-    const auto g20 = g20_from;
-    const auto g60 = g60_from;
+    ModalState own;  // only its origins are used
+    each_origin_pair(own, *this, [](auto& to, const auto& from) { to = from; });
     merge(o);
-    g91_from = g91;
-    g20_from = g20;
-    g60_from = g60;
-    merge_jumped(g91_from, o.g91_from, line, range);
-    merge_jumped(g20_from, o.g20_from, line, range);
-    merge_jumped(g60_from, o.g60_from, line, range);
+    each_origin_pair(*this, own, [](auto& to, const auto& from) { to = from; });
+    each_origin_pair(*this, o, [&](auto& to, auto from) {
+        from.jumped(line, range);
+        to.merge(from);
+    });
 }
 
 void ModalState::merge(const ModalState& o) {
@@ -102,6 +105,9 @@ void ModalState::merge(const ModalState& o) {
     g20_from.merge(o.g20_from);
     motion.merge(o.motion);
     g60_from.merge(o.g60_from);
+    plane_from.merge(o.plane_from);
+    cycle_from.merge(o.cycle_from);
+    modin_from.merge(o.modin_from);
     work_offset.merge(o.work_offset);
     length_offset.merge(o.length_offset);
     length_offset_h.merge(o.length_offset_h);

@@ -4,9 +4,9 @@
 // at a block is the merge of the states flowing into it (textual predecessor,
 // every jump to its sequence name, loop back edges); fields that differ become
 // unknown. Rules never fire on an unknown field as if it were known; for
-// G90/G91, G20/G21 and G60 the state also keeps where each value the field may
-// hold was set (`ModeOrigin`), so that a rule can say what *may* be in effect and
-// on which path.
+// G90/G91, G20/G21, G60, the plane, an open fixed cycle and an open MODIN the
+// state also keeps where the value rules warn about was set (`ModeOrigin`), so
+// that a rule can say what *may* be in effect and on which path.
 #pragma once
 
 #include <array>
@@ -50,7 +50,8 @@ struct Val {
 enum class Units : uint8_t { Mm, Inch };
 enum class Distance : uint8_t { Absolute, Incremental };  // G90 / G91
 
-// Where a mode that some rules warn about (G91, G20, G60) was set, for "may"
+// Where a mode that some rules warn about (G91, G20, G60, a plane other than
+// G17, a fixed cycle or a MODIN left open) was set, for "may"
 // findings: the block that set it last on some path that reaches here (its
 // line and the range of the word; line 0: the initial state) and the last jump
 // that path took since (line 0: none). When paths disagree the field itself is
@@ -106,8 +107,9 @@ const char* plane_name(Plane p);  // "G17"
 struct ActiveCycle {
     int code = 0;                  // 81, 84, 114, ...
     std::string macro;             // "OG84L" when the cycle is a G-code macro, else empty
-    uint32_t start_line = 0;       // block that started it (0: differs between paths)
-    ByteRange start_range;         // the G word that started it (empty: differs between paths)
+    uint32_t start_line = 0;       // block that started it (0: differs between paths, or a subprogram did)
+    ByteRange start_range;         // the G word that started it (empty: differs between paths; the
+                                   // called name when a subprogram started it and left it modal)
     Val<double> r, z;              // R and Z as commanded (meaning depends on G90/G91)
     Val<double> initial;           // cycle-axis position when the cycle was commanded
     // The other addresses commanded since the cycle started (Q, K, J, P, I, L,
@@ -116,6 +118,7 @@ struct ActiveCycle {
     // block disagree on which addresses were given: then absence proves nothing.
     std::map<std::string, Val<double>> words;
     bool words_known = true;
+    std::string via;  // "O100" when a user subprogram started it and left it modal; else empty
     friend bool operator==(const ActiveCycle&, const ActiveCycle&) = default;
 
     bool given(const std::string& address) const { return words.count(address) > 0; }
@@ -130,6 +133,7 @@ struct OpenCycle {
     int code = 0;
     std::string macro;
     ByteRange start;  // the G word that started it
+    std::string via;  // as ActiveCycle::via
     friend bool operator==(const OpenCycle&, const OpenCycle&) = default;
 };
 
@@ -140,6 +144,7 @@ struct ActiveModin {
     // Argument name -> known numeric value (absent: not given or value unknown).
     std::map<std::string, double> values;
     std::vector<std::string> given;  // every argument name given on the MODIN line
+    std::string via;  // "O100" when a user subprogram opened it and left it open; else empty
     friend bool operator==(const ActiveModin&, const ActiveModin&) = default;
 };
 
@@ -153,6 +158,7 @@ struct ModalState {
     ModeOrigin<Units, Units::Inch> g20_from;                 // where G20 was set (for "may" findings)
     Val<int> motion;  // 0, 1, 2, 3 or 60 (G60 is in the interpolation group on OSP)
     ModeOrigin<bool, true> g60_from;  // where G60 was set (set(false): G0..G3) (for "may" findings)
+    ModeOrigin<bool, true> plane_from;  // where a plane other than G17 was set (set(false): G17)
     Val<double> work_offset;             // G15 H
     Val<bool> length_offset;             // G56 active (true) / G53 cancelled (false)
     Val<double> length_offset_h;         // H of G56
@@ -162,8 +168,10 @@ struct ModalState {
     Val<int> return_level;               // 52, 53, 54; 0 = none commanded yet (G98/G99 decide)
     Val<std::optional<ActiveCycle>> cycle;    // known none / known cycle / unknown
     Val<std::optional<OpenCycle>> uncancelled;  // known none / a cycle no G80 ended / unknown
+    ModeOrigin<bool, true> cycle_from;          // where the cycle in `uncancelled` was started (set(false): G80)
     Val<CycleReturn> cycle_return;            // G98 / G99
     Val<std::optional<ActiveModin>> modin;    // known none / known MODIN / unknown
+    ModeOrigin<bool, true> modin_from;        // where the MODIN was opened (set(false): MODOUT)
     Val<int> spindle;                    // 3, 4, 5 (M843 counts as 3, M845 as 5)
     // Line of the G80/M204 that stopped the spindle by ending a G114 (OG84L)
     // mode; 0 when the spindle state comes from an explicit M code.
@@ -203,9 +211,17 @@ struct ModalState {
     void merge_jump(const ModalState& o, uint32_t line, ByteRange range);
     // This state flows along such a jump.
     void jumped(uint32_t line, ByteRange range) {
-        g91_from.jumped(line, range);
-        g20_from.jumped(line, range);
-        g60_from.jumped(line, range);
+        each_origin([&](auto& o) { o.jumped(line, range); });
+    }
+    // Calls `f` on every origin field.
+    template <class F>
+    void each_origin(F&& f) {
+        f(g91_from);
+        f(g20_from);
+        f(g60_from);
+        f(plane_from);
+        f(cycle_from);
+        f(modin_from);
     }
     friend bool operator==(const ModalState&, const ModalState&) = default;
 

@@ -75,6 +75,7 @@ ModalState initial_state(const Config& config, bool subprogram) {
     s.distance = Val<Distance>::of(config.distance);
     s.g91_from.set(config.distance, 0, {});
     s.g20_from.set(config.units, 0, {});
+    s.plane_from.set(config.plane != Plane::G17, 0, {});
     s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
     s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
     s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
@@ -162,8 +163,7 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
     const Val<int> motion = s.motion;
     s.motion = Val<int>{};
     if (call && call->summary) {
-        s.motion = motion;
-        apply_summary(*call->summary, s);
+        s.motion = motion;  // apply_block applies the summary at the end
     } else {
         s.g60_from.clear();
     }
@@ -230,6 +230,7 @@ void end_fixed_cycle(const Block& b, ModalState& s) {
     }
     s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
     s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
+    s.cycle_from.clear();
     // Whether G80 resets M52/M53/M54 is not documented: a return level
     // stays known only when none was commanded.
     if (!s.return_level.is(0)) s.return_level = Val<int>{};
@@ -255,9 +256,10 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
                 s.motion = Val<int>::of(c);
                 s.g60_from.set(c == 60, f.b.line, g_word_range(f.b, c));
                 break;
-            case 17: s.plane = Val<Plane>::of(Plane::G17); break;
-            case 18: s.plane = Val<Plane>::of(Plane::G18); break;
-            case 19: s.plane = Val<Plane>::of(Plane::G19); break;
+            case 17: case 18: case 19:
+                s.plane = Val<Plane>::of(c == 17 ? Plane::G17 : c == 18 ? Plane::G18 : Plane::G19);
+                s.plane_from.set(c != 17, f.b.line, g_word_range(f.b, c));
+                break;
             case 20: case 21: {
                 const Units u = c == 20 ? Units::Inch : Units::Mm;
                 s.units = Val<Units>::of(u);
@@ -298,12 +300,14 @@ bool apply_g_codes(const BlockFacts& f, ModalState& s) {
         s.units = Val<Units>{};
         s.g20_from.clear();
         s.g60_from.clear();
+        s.plane_from.clear();
         s.motion = Val<int>{};
         s.cycle_return = Val<CycleReturn>{};
         s.cutter_comp = Val<int>{};
         s.length_offset = Val<bool>{};
         s.cycle = Val<std::optional<ActiveCycle>>{};
         s.uncancelled = Val<std::optional<OpenCycle>>{};
+        s.cycle_from.clear();
         positions_unknown = true;
     }
     if (has(f.gs, 20) && f.b.find("HP")) positions_unknown = true;  // G20 HP=n: home position (Multus)
@@ -439,6 +443,7 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
     if (f.cycle_cancel_macro) {
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::nullopt);
         s.uncancelled = Val<std::optional<OpenCycle>>::of(std::nullopt);
+        s.cycle_from.clear();
         s.overrides_disabled = Val<bool>::of(false);
         s.spindle = Val<int>::of(5);  // "the spindle stops too" (tap cycle manual; M204 as well)
         s.spindle_stopped_by = Val<uint32_t>::of(b.line);
@@ -458,8 +463,9 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
             c.start_range = cw.range;
             if (cyc_axis) c.initial = before.axis(cyc_axis);
         }
+        if (!same || !s.cycle_from.find()) s.cycle_from.set(true, b.line, cw.range);
         update_cycle(c, b, before, cyc_axis);
-        s.uncancelled = Val<std::optional<OpenCycle>>::of(OpenCycle{c.code, c.macro, c.start_range});
+        s.uncancelled = Val<std::optional<OpenCycle>>::of(OpenCycle{c.code, c.macro, c.start_range, c.via});
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::move(c));
     } else if (s.cycle.known && s.cycle.value && !f.g80) {
         if (f.interpolation) {
@@ -596,10 +602,11 @@ void apply_tool_position(const BlockFacts& f, int cycle_code, bool positions_unk
 // A subprogram or macro run, and the common variables it may change.
 void run_program(const MacroCall* call, const MacroSpec* spec, const ModalState& before, ModalState& s) {
     apply_subprogram_run(call, spec, before, s);
-    if (!spec) {
-        // An unknown subprogram may change any common variable.
+    if (!spec && !(call && call->summary)) {
+        // An unknown subprogram may change any common variable (one with a
+        // summary changes those the summary names).
         erase_all_common(s);
-    } else if (spec->has(Hazard::OverwritesVc120To128)) {
+    } else if (spec && spec->has(Hazard::OverwritesVc120To128)) {
         erase_reserved_common(s);
     }
 }
@@ -622,10 +629,12 @@ void apply_statements(const BlockFacts& f, const Catalog& catalog, ModalState& s
                     }
                 }
                 s.modin = Val<std::optional<ActiveModin>>::of(std::move(am));
+                s.modin_from.set(true, b.line, st.head_range());
                 break;
             }
             case StmtKind::Modout:
                 s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
+                s.modin_from.clear();
                 break;
             case StmtKind::Call:
                 run_program(call && call->kind == CallKind::Call ? call : nullptr, catalog.find(st.name), f.before, s);
@@ -694,8 +703,10 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     if (f.runs_program)
         if (auto end = macro_end(b, before, s, call))
             if (Val<double>* ax = s.axis_ref(end->first)) *ax = Val<double>::of(end->second);
-    // G90/G91 and G20/G21 set by a user subprogram this block calls: set at the call.
+    // What a user subprogram this block calls leaves behind; the modes it sets
+    // are set at the call.
     if (call && call->summary) {
+        apply_summary(*call->summary, b.line, call->name_range, s);
         auto origin = [&](const auto& effect, auto& origins) {
             using K = typename std::decay_t<decltype(effect)>::Kind;
             if (effect.kind == K::Set) origins.set(effect.value, b.line, call->name_range);

@@ -97,6 +97,10 @@ struct Statement {
     ByteRange name_range;
     ExprId expr = kNoExpr;    // IF / WHILE condition
     int loop = -1;            // DO / END / WHILE loop number
+    // The keyword and its target ("MODIN OG87C", "GOTO N10"; the keyword alone when there is none).
+    ByteRange head_range() const {
+        return {keyword_range.begin, name_range.empty() ? keyword_range.end : name_range.end};
+    }
     friend bool operator==(const Statement&, const Statement&) = default;
 };
 

@@ -1,5 +1,6 @@
 // User subprograms across files: what a subprogram in a file beside the
-// checked one leaves behind (G90/G91, plane, units) is applied at its CALL.
+// checked one leaves behind (G90/G91, plane, units, a fixed cycle, a MODIN,
+// common variables; whether it returns) is applied at its CALL.
 #include <doctest/doctest.h>
 
 #include <unistd.h>
@@ -143,6 +144,106 @@ TEST_CASE("subprogram summaries: the modes a subprogram leaves apply at its CALL
     }
 }
 
+// Whether some note of `d` contains `text`.
+static bool noted(const Diagnostic& d, const std::string& text) {
+    for (const auto& n : d.notes)
+        if (n.message.find(text) != std::string::npos) return true;
+    return false;
+}
+
+TEST_CASE("subprogram summaries: a cycle or MODIN left open, common variables, RTS") {
+    Folder f;
+    SubprogramDirectories dirs;
+    SubprogramSummaries summaries(builtin_rules(), dirs);
+    const std::string call_only = "O1000\nG90 G17 G21 G0 X0 Y0 Z50.\nS800 M3\nCALL O100\nM30\n";
+    auto summary = [&] { return summaries.find(Config{}, (f.dir / "MAIN.MIN").string(), "O100"); };
+
+    SUBCASE("a MODIN the subprogram leaves open is never closed in the caller (OSP203, at the CALL)") {
+        f.write("SUB.SSB", "O100\nMODIN OG87N PR=5 PZ=-25 PL=4 PI=2 PJ=6 PF=100\nX20 Y20\nRTS\n");
+        auto ds = findings(f, call_only, summaries, "OSP203");
+        REQUIRE(ds.size() == 1);
+        CHECK(ds[0].range.start.line == 4);
+        CHECK(ds[0].message.find("MODIN OG87N, which the subprogram O100 opens and leaves open, is never closed") !=
+              std::string::npos);
+        REQUIRE(summary());
+        CHECK(summary()->describe() == "leaves MODIN OG87N in effect");
+        // The caller closes it: nothing to report.
+        std::string closed = call_only;
+        closed.replace(closed.find("M30"), 3, "MODOUT\nM30");
+        CHECK(findings(f, closed, summaries, "OSP203").empty());
+    }
+    SUBCASE("a fixed cycle the subprogram leaves modal is still modal at the caller's end (OSP204, at the CALL)") {
+        f.write("SUB.SSB", "O100\nG98 G81 X10 Y10 Z-5 R3 F150\nRTS\n");
+        auto ds = findings(f, call_only, summaries, "OSP204");
+        REQUIRE(ds.size() == 1);
+        CHECK(ds[0].range.start.line == 4);
+        CHECK(ds[0].message.find("G81 (left modal by the subprogram O100) is still modal") != std::string::npos);
+        std::string cancelled = call_only;
+        cancelled.replace(cancelled.find("M30"), 3, "G80\nM30");
+        CHECK(findings(f, cancelled, summaries, "OSP204").empty());
+    }
+    SUBCASE("a cycle cancelled on some paths of the subprogram only: unknown after the call, nothing reported") {
+        f.write("SUB.SSB", "O100\nIF [VC1 EQ 1] NS\nG80\nNS RTS\n");
+        const std::string main = "O1000\nG90 G17 G21 G0 X0 Y0 Z50.\nS800 M3\nG98 G81 X10 Y10 Z-5 R3 F150\n"
+                                 "CALL O100\nM30\n";
+        CHECK(findings(f, main, summaries, "OSP204").empty());
+        REQUIRE(summary());
+        CHECK(summary()->uncancelled.kind == ModeEffect<std::optional<OpenCycle>>::Kind::Unknown);
+        // Without the IF the G80 cancels on every path: known, and the caller's end is clean as well.
+        f.write("SUB.SSB", "O100\nG80\nRTS\n");
+        CHECK(findings(f, main, summaries, "OSP204").empty());
+    }
+    SUBCASE("the common variables it writes, and a macro it runs that overwrites VC120-VC128 (OSP202)") {
+        f.write("SUB.SSB", "O100\nVC130=5\nVC131=VC[VC1]\nCALL OM100 PR=5 PZ=-20 PI=12 PF=100 PFA=1000\nRTS\n");
+        REQUIRE(summary());
+        const SubprogramSummary& s = *summary();
+        CHECK(s.writes.size() == 2);
+        CHECK(s.writes.at(130) == std::optional<double>(5.0));
+        CHECK_FALSE(s.writes.at(131).has_value());
+        CHECK_FALSE(s.writes_any);
+        CHECK(s.clobbers_reserved == "OM100");
+        CHECK(s.returns);
+        const std::string main = "O1000\nG90 G17 G21 G0 X0 Y0 Z50.\nVC121=5\nCALL O100\nG0 X=VC121\nM30\n";
+        auto ds = findings(f, main, summaries, "OSP202");
+        REQUIRE(ds.size() == 2);  // the write and the read of VC121
+        CHECK(noted(ds[0], "O100 runs OM100, which overwrites VC121 when it runs"));
+        // The caller's other common variables keep their values across the call.
+        ModalState caller;
+        caller.vars["VC130"] = 1;
+        caller.vars["VC132"] = 2;
+        caller.vars["VC121"] = 3;
+        apply_summary(s, 4, {}, caller);
+        CHECK(caller.vars.at("VC130") == 5);
+        CHECK(caller.vars.at("VC132") == 2);
+        CHECK(caller.vars.count("VC121") == 0);
+        // A subprogram that calls another one may write any common variable.
+        f.write("SUB.SSB", "O100\nCALL O200\nRTS\nO200\nVC140=1\nRTS\n");
+        REQUIRE(summary());
+        CHECK(summary()->writes_any);
+        apply_summary(*summary(), 4, {}, caller);
+        CHECK(caller.vars.count("VC132") == 0);
+    }
+    SUBCASE("a WHILE loop inside the subprogram: G91 in its body is unknown after it, G90 after END is set") {
+        f.write("SUB.SSB", "O100\nVC1=0\nWHILE [VC1 LT 2] DO 1\nG91 G0 X10.\nVC1=VC1+1\nEND 1\nRTS\n");
+        REQUIRE(summary());
+        CHECK(summary()->distance.kind == ModeEffect<Distance>::Kind::Unknown);
+        CHECK(findings(f, kMain, summaries).empty());
+        f.write("SUB.SSB", "O100\nVC1=0\nWHILE [VC1 LT 2] DO 1\nG91 G0 X10.\nVC1=VC1+1\nEND 1\nG91\nRTS\n");
+        REQUIRE(summary());
+        CHECK(summary()->distance.kind == ModeEffect<Distance>::Kind::Set);
+        CHECK(findings(f, kMain, summaries).size() == 1);  // OSP109: OKYLX under the G91 the subprogram leaves
+    }
+    SUBCASE("a subprogram with no RTS never returns: OSP004 at the CALL") {
+        f.write("SUB.SSB", "O100\nG0 X1.\nM30\n");
+        auto ds = findings(f, call_only, summaries, "OSP004");
+        REQUIRE(ds.size() == 1);
+        CHECK(ds[0].range.start.line == 4);
+        CHECK(ds[0].message.find("O100 (SUB.SSB, line 1) has no RTS on any path") != std::string::npos);
+        f.write("SUB.SSB", "O100\nIF [VC1 EQ 1] NE\nRTS\nNE M30\n");
+        CHECK(findings(f, call_only, summaries, "OSP004").empty());  // RTS on one path: it may return
+    }
+}
+
 TEST_CASE("subprogram summaries: each mode is set, kept or unknown") {
     ModalState end0 = summary_probe(0), end1 = summary_probe(1);
     end0.distance = end1.distance = Val<Distance>::of(Distance::Incremental);  // set on every path
@@ -160,7 +261,7 @@ TEST_CASE("subprogram summaries: each mode is set, kept or unknown") {
     caller.distance = Val<Distance>::of(Distance::Absolute);
     caller.plane = Val<Plane>::of(Plane::G19);
     caller.units = Val<Units>::of(Units::Mm);
-    apply_summary(s, caller);
+    apply_summary(s, 7, {}, caller);
     CHECK(caller.distance.is(Distance::Incremental));
     CHECK(caller.plane.is(Plane::G19));
     CHECK_FALSE(caller.units.known);
