@@ -79,6 +79,10 @@ struct FrozenWalk {
     // fixes, the directive that silenced it): an edit before it would leave
     // the findings the caller keeps pointing at text that moved.
     uint32_t reach = 0;
+    // The summaries of the file's own programs that the walk used so far (by
+    // name; nullptr: none could be made): an edit that changes what one of
+    // them leaves behind changes the states after its CALLs.
+    std::vector<std::pair<std::string, const SubprogramSummary*>> local_used;
     bool seen_main = false;
     bool subprogram = false;
     Program program_info;
@@ -210,8 +214,10 @@ private:
     bool plain_ok_ = true;            // plain_moves_possible with this catalog
     std::optional<SuppressionFilter> filter_;
     ProgramNames names_;              // this file's program names
-    // The summaries of the subprograms beside the file its CALLs reached, by name.
+    // The summaries of the subprograms (of this file or beside it) its CALLs reached, by name.
     mutable std::map<std::string, const SubprogramSummary*, std::less<>> summary_of_;
+    const SubprogramSummary* local_summary(const std::string& name) const;  // of a program of this file
+    mutable std::vector<std::pair<std::string, const SubprogramSummary*>> local_used_;  // FrozenWalk::local_used
     bool fingerprints_ = false;
     OccurrenceCounter occurrences_;
 
@@ -410,7 +416,9 @@ void Walk::walk_program(size_t index) {
     final_state_ = MaybeState{};
     ++stats_.programs;
 
-    subprogram_ = library_ || po.has_rts;
+    // A walk that makes a summary takes every program for a subprogram: it
+    // walks one program of a main file alone, from the entry it was given.
+    subprogram_ = library_ || po.has_rts || options_.subprogram_entry;
     if (po.has_content && !subprogram_) {
         subprogram_ = seen_main_;
         seen_main_ = true;
@@ -469,6 +477,7 @@ void Walk::take_checkpoint() {
     f->diagnostics = delivered_diagnostics_;
     f->suppressed = delivered_suppressed_;
     f->reach = delivered_reach_;
+    f->local_used = local_used_;
     f->seen_main = seen_main_;
     f->subprogram = subprogram_;
     f->program_info = program_;
@@ -566,6 +575,13 @@ bool Walk::resume_from_checkpoints() {
         if (f.offset >= e.prefix || f.reach > e.prefix || f.program >= outline_.programs.size() ||
             !same_structure(*c->outline, outline_, f.program, e))
             break;
+        // The file's own subprograms the walk used must leave the same behind in the new text.
+        bool same_summaries = true;
+        for (const auto& [name, used] : f.local_used) {
+            const SubprogramSummary* now = local_summary(name);
+            if (!(now && used ? same_effect(*now, *used) : now == used)) same_summaries = false;
+        }
+        if (!same_summaries) break;
         auto moved_c = std::make_shared<WalkCheckpoint>();
         moved_c->outline = shared_outline_;
         moved_c->frozen = c->frozen;
@@ -605,6 +621,8 @@ bool Walk::resume_from_checkpoints() {
     delivered_diagnostics_ = f.diagnostics;
     delivered_suppressed_ = f.suppressed;
     delivered_reach_ = f.reach;
+    local_used_ = f.local_used;
+    for (const auto& [name, used] : f.local_used) summary_of_[name] = local_summary(name);
     set_state(f.flowing);
     main_.seek(f.offset, f.line);
     next_checkpoint_ = f.offset + options_.checkpoint_every;
@@ -887,15 +905,30 @@ void Walk::leave(const Block& b, const LineRef& line) {
 
 std::optional<MacroCall> Walk::resolve(const Block& b, const ModalState& before) const {
     std::optional<MacroCall> call = resolve_call(b, before, config_.catalog);
-    // A name this file defines is its own program: no file beside it is read.
-    if (call && options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty() &&
-        names_.find(call->name) == names_.end()) {
+    if (call && options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty()) {
         // Asked once per name and file: a posted program calls the same few names again and again.
         auto [it, added] = summary_of_.try_emplace(call->name, nullptr);
-        if (added) it->second = options_.summaries->find(config_, path_, call->name);
+        if (added) {
+            // A name this file defines is its own program (no file beside it
+            // is read); the program that calls itself stays unknown.
+            if (names_.find(call->name) == names_.end())
+                it->second = options_.summaries->find(config_, path_, call->name);
+            else if (call->name != program_.name)
+                local_used_.emplace_back(call->name, it->second = local_summary(call->name));
+        }
         call->summary = it->second;
     }
     return call;
+}
+
+const SubprogramSummary* Walk::local_summary(const std::string& name) const {
+    for (size_t i = 0; i < outline_.programs.size(); ++i) {
+        const ProgramOutline& po = outline_.programs[i];
+        if (po.name != name) continue;  // the first program of that name, as the control finds it
+        const uint64_t end = i + 1 < outline_.programs.size() ? outline_.programs[i + 1].offset : outline_.size;
+        return options_.summaries->local(config_, path_, src_, po.offset, end, po.line, name);
+    }
+    return nullptr;
 }
 
 void Walk::visit(const Block& b, const LineRef& line, Mode mode) {

@@ -112,13 +112,46 @@ const SubprogramSummary* SubprogramSummaries::find(const Config& config, const s
 
 std::optional<SubprogramSummary> SubprogramSummaries::make(const Config& config, const std::filesystem::path& file,
                                                            std::string_view name) {
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return std::nullopt;
+    FdSource src(fd, std::nullopt);
+    std::optional<SubprogramSummary> s = walk(config, file.string(), src, name);
+    ::close(fd);
+    return s;
+}
+
+const SubprogramSummary* SubprogramSummaries::local(const Config& config, const std::string& path, ByteSource& src,
+                                                   uint64_t begin, uint64_t end, uint32_t first_line,
+                                                   std::string_view name) {
+    // Keyed by the program's bytes (FNV-1a, read in pieces): an edit of it
+    // makes a new summary, one elsewhere in the file does not.
+    uint64_t hash = 1469598103934665603ull;
+    std::string piece(std::min<uint64_t>(end - begin, 1u << 16), '\0');
+    for (uint64_t at = begin; at < end;) {
+        const int64_t got = src.read(at, piece.data(), std::min<uint64_t>(piece.size(), end - at));
+        if (got <= 0) return nullptr;
+        for (int64_t i = 0; i < got; ++i) hash = (hash ^ static_cast<unsigned char>(piece[i])) * 1099511628211ull;
+        at += static_cast<uint64_t>(got);
+    }
+    const std::string key = std::to_string(reinterpret_cast<std::uintptr_t>(&config)) + '\n' + path + '\n' +
+                            std::to_string(end - begin) + '\n' + std::to_string(hash) + '\n' +
+                            std::to_string(first_line) + '\n' + std::string(name) + "\n(local)";
+    std::lock_guard lock(m_);
+    auto [it, added] = cache_.try_emplace(key);
+    if (added) {
+        WindowSource window(src, begin, end);
+        it->second = walk(config, path, window, name);
+        if (it->second) it->second->line += first_line - 1;  // the window's lines count from its first
+    }
+    return it->second ? &*it->second : nullptr;
+}
+
+std::optional<SubprogramSummary> SubprogramSummaries::walk(const Config& config, const std::string& path,
+                                                           ByteSource& src, std::string_view name) {
     std::optional<ModalState> ends[2];
     uint32_t line = 0;
     std::optional<EndOfProgram> last;
     for (int which = 0; which < 2; ++which) {
-        const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-        if (fd < 0) return std::nullopt;
-        FdSource src(fd, std::nullopt);
         const ModalState entry = summary_probe(which);
         EndOfProgram& end = last.emplace(name);
         EngineOptions options;
@@ -127,8 +160,7 @@ std::optional<SubprogramSummary> SubprogramSummaries::make(const Config& config,
         options.observer = &end;
         options.subprogram_entry = &entry;  // no summaries: what it calls in turn keeps the modes
         DiscardFindings discard;
-        const std::string error = run_engine(file.string(), src, config, options, discard);
-        ::close(fd);
+        const std::string error = run_engine(path, src, config, options, discard);
         ++walks_;
         if (!error.empty() || !end.found() || !end.end()) return std::nullopt;
         ends[which] = *end.end();
@@ -137,7 +169,7 @@ std::optional<SubprogramSummary> SubprogramSummaries::make(const Config& config,
     SubprogramSummary s = summarize(&*ends[0], &*ends[1]);
     last->add_to(s, *ends[0], *ends[1]);
     s.name = std::string(name);
-    s.file = file.string();
+    s.file = path;
     s.line = line;
     return s;
 }

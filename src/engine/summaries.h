@@ -1,11 +1,15 @@
-// Summaries of the user subprograms a CALL reaches in the subprogram files
-// beside the checked file (.SSB .SUB .LIB .MSB, as the control searches them):
-// what each leaves behind for its caller (semantics/summary.h). A summary is
-// made by walking the subprogram with this engine, without rules, from the two
-// entry states of summary_probe, and kept until its file changes on disk.
-// Thread-safe: the files of one check share it.
+// Summaries of the user subprograms a CALL reaches, in the checked file itself
+// or in the subprogram files beside it (.SSB .SUB .LIB .MSB, as the control
+// searches them): what each leaves behind for its caller
+// (semantics/summary.h). A summary is made by walking the subprogram with this
+// engine, without rules, from the two entry states of summary_probe, and kept
+// (a state may point at it) by its file's stamp, or for a program of the
+// checked file by the program's bytes, which are read from the source being
+// walked (an editor's text as well as a file). Thread-safe: the files of one
+// check share it.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -33,11 +37,20 @@ public:
     // file defines it, it cannot be read, or no path reaches its end.
     const SubprogramSummary* find(const Config& config, const std::string& checked_path, std::string_view name);
 
+    // The summary of the program `name` of the file being walked, from its
+    // bytes [begin, end) of `src` (its first line: `first_line`); nullptr
+    // when no path reaches its end or the bytes cannot be read.
+    const SubprogramSummary* local(const Config& config, const std::string& path, ByteSource& src, uint64_t begin,
+                                   uint64_t end, uint32_t first_line, std::string_view name);
+
     // How many subprogram walks were made so far (each summary takes two).
     uint64_t walks() const { return walks_; }
 
 private:
     std::optional<SubprogramSummary> make(const Config& config, const std::filesystem::path& file,
+                                          std::string_view name);
+    // The two walks of the program `name` of `src`.
+    std::optional<SubprogramSummary> walk(const Config& config, const std::string& path, ByteSource& src,
                                           std::string_view name);
 
     const RuleRegistry& rules_;
@@ -45,7 +58,7 @@ private:
     std::mutex m_;
     // By configuration, file, the file's stamp and the name.
     std::map<std::string, std::optional<SubprogramSummary>> cache_;
-    uint64_t walks_ = 0;
+    std::atomic<uint64_t> walks_{0};
 };
 
 }  // namespace osplint

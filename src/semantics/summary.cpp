@@ -133,6 +133,13 @@ void apply_summary(const SubprogramSummary& summary, uint32_t line, ByteRange ra
     }
 }
 
+bool same_effect(const SubprogramSummary& a, const SubprogramSummary& b) {
+    SubprogramSummary x = a, y = b;
+    x.file = y.file;
+    x.line = y.line;
+    return x == y;
+}
+
 bool SubprogramSummary::changes_anything() const {
     return distance.kind != ModeEffect<Distance>::Kind::Kept || plane.kind != ModeEffect<Plane>::Kind::Kept ||
            units.kind != ModeEffect<Units>::Kind::Kept || motion.kind != ModeEffect<int>::Kind::Kept ||

@@ -57,6 +57,8 @@ struct SubprogramSummary {
     // back to the caller (it ends with M02/M30).
     bool returns = true;
 
+    friend bool operator==(const SubprogramSummary&, const SubprogramSummary&) = default;
+
     // Whether it changes anything the caller had.
     bool changes_anything() const;
     // "leaves G91 in effect; sets G18", for notes; "" when it changes nothing.
@@ -70,6 +72,9 @@ ModalState summary_probe(int which);
 // The summary from the states where the two walks end (nullptr: no path
 // reaches the end of the subprogram).
 SubprogramSummary summarize(const ModalState* end0, const ModalState* end1);
+
+// Whether two summaries leave the same behind (where they were found aside).
+bool same_effect(const SubprogramSummary& a, const SubprogramSummary& b);
 
 // Applies the summary to the state after the CALL at `line` (`range`: the
 // called name, where a cycle or a MODIN it leaves open is taken to start).

@@ -8,6 +8,7 @@
 // the analysis needs them a second time (a loop body, a finding's line).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -83,6 +84,23 @@ public:
 
 private:
     std::string_view text_;
+};
+
+// The bytes [begin, end) of another source, as a source of their own (one
+// program of a file, walked alone). The other source must outlive it.
+class WindowSource final : public ByteSource {
+public:
+    WindowSource(ByteSource& inner, uint64_t begin, uint64_t end) : inner_(inner), begin_(begin), end_(end) {}
+    int64_t read(uint64_t offset, char* buf, size_t len) override {
+        if (offset >= end_ - begin_) return 0;
+        return inner_.read(begin_ + offset, buf, std::min<uint64_t>(len, end_ - begin_ - offset));
+    }
+    std::optional<uint64_t> size() const override { return end_ - begin_; }
+    std::string error() const override { return inner_.error(); }
+
+private:
+    ByteSource& inner_;
+    uint64_t begin_, end_;
 };
 
 // Reads `len` bytes at `offset` of a descriptor with pread, retrying short

@@ -28,6 +28,8 @@
 #include "support/errors.h"
 #include "support/io.h"
 #include "engine/record.h"
+#include "engine/summaries.h"
+#include "rules/registry.h"
 #include "programs.h"
 #include "reference.h"
 #include "semantics/transfer.h"
@@ -687,6 +689,47 @@ TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh 
     }
     MESSAGE(resumed << " of " << runs << " analyses resumed from a checkpoint");
     CHECK(resumed > runs / 4);
+}
+
+TEST_CASE("engine: an edit of the file's own subprogram reaches the states after its CALL on a resumed analysis") {
+    SubprogramDirectories dirs;
+    SubprogramSummaries summaries(builtin_rules(), dirs);
+    std::string main = "O1000\nG90 G17 G21\nG0 X0 Y0 Z50.\nCALL O100\n";
+    for (int i = 0; i < 300; ++i) main += "G0 X" + std::to_string(i) + ".\n";
+    main += "CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nM30\n";
+    const std::string keeps = main + "O100\nG0 X1.\nRTS\n";
+    const std::string leaves_g91 = main + "O100\nG91 G0 X1.\nRTS\n";
+    const std::string comment = main + "O100\nG91 G0 X1. (SHIFT)\nRTS\n";
+    std::vector<Checkpoint> checkpoints;
+    // The number of OSP109 findings of `text`, resumed from the checkpoints
+    // of the text before when `before` is given; whether it was resumed.
+    auto run = [&](const std::string& text, const std::string* before, bool& resumed) {
+        AnalysisOptions o;
+        o.summaries = &summaries;
+        o.checkpoint_every = 64;
+        o.checkpoints = &checkpoints;
+        std::optional<CheckpointPlace> at;
+        if (before) {
+            o.edit = text_change(*before, text);
+            o.resumed_at = &at;
+        }
+        MemorySource src(text);
+        InOrder sink;
+        check_source("/nonexistent-dir/own.min", src, Config{}, o, sink);
+        resumed = at.has_value();
+        size_t n = 0;
+        for (const auto& d : sink.diagnostics) n += d.rule == "OSP109" && (!at || d.range.bytes.begin >= at->offset);
+        return n;
+    };
+    bool resumed = false;
+    CHECK(run(keeps, nullptr, resumed) == 0);
+    // The subprogram now leaves G91: the OKYLX far above the edit is a finding,
+    // so the walk cannot resume after the CALL.
+    CHECK(run(leaves_g91, &keeps, resumed) == 1);
+    // An edit of the subprogram that leaves the same behind: resumed after the
+    // CALL (the finding before the checkpoint is the caller's to keep).
+    run(comment, &leaves_g91, resumed);
+    CHECK(resumed);
 }
 
 TEST_CASE("may findings: a mode some paths bring, at the severity of [analysis] may-findings") {

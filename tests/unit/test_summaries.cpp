@@ -54,6 +54,13 @@ std::vector<Diagnostic> findings(const Folder& f, const std::string& main_text, 
     return out;
 }
 
+// Whether some note of `d` contains `text`.
+bool noted(const Diagnostic& d, const std::string& text) {
+    for (const auto& n : d.notes)
+        if (n.message.find(text) != std::string::npos) return true;
+    return false;
+}
+
 }  // namespace
 
 TEST_CASE("subprogram summaries: the modes a subprogram leaves apply at its CALL") {
@@ -127,6 +134,24 @@ TEST_CASE("subprogram summaries: the modes a subprogram leaves apply at its CALL
         std::string main = std::string(kMain) + "O100\nG0 X1.\nRTS\n";
         CHECK(findings(f, main, summaries).empty());
     }
+    SUBCASE("a subprogram of the checked file itself is summarised from its own text") {
+        const std::string main = std::string(kMain) + "O100\nG91 G0 X10.\nRTS\n";
+        auto ds = findings(f, main, summaries);
+        REQUIRE(ds.size() == 1);
+        CHECK(ds[0].range.start.line == 5);
+        CHECK(noted(ds[0], "G91 comes from the subprogram O100 (MAIN.MIN, line 7)"));
+        // An edit of the subprogram is a new summary; the file's name does not change.
+        const uint64_t walks = summaries.walks();
+        CHECK(findings(f, std::string(kMain) + "O100\nG91 G0 X10.\nG90\nRTS\n", summaries).empty());
+        CHECK(summaries.walks() == walks + 2);
+        // The same text again: the summary is kept.
+        CHECK(findings(f, main, summaries).size() == 1);
+        CHECK(summaries.walks() == walks + 2);
+        // A program that calls itself is not summarised (its CALL keeps the modes).
+        const std::string self = "O1000\nG90 G17 G21\nG0 X0 Y0 Z50.\nIF [VC1 EQ 1] NE\nVC1=1\nCALL O1000\n"
+                                 "NE CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nG91\nM30\n";
+        CHECK(findings(f, self, summaries).empty());
+    }
     SUBCASE("a summary is made once per file version") {
         f.write("SUB.SSB", "O100\nG91\nRTS\n");
         const std::string main = f.write("MAIN.MIN", kMain);
@@ -142,13 +167,6 @@ TEST_CASE("subprogram summaries: the modes a subprogram leaves apply at its CALL
         f.write("LOOP.SSB", "O200\nNA G0 X1.\nGOTO NA\n");
         CHECK(summaries.find(config, main, "O200") == nullptr);
     }
-}
-
-// Whether some note of `d` contains `text`.
-static bool noted(const Diagnostic& d, const std::string& text) {
-    for (const auto& n : d.notes)
-        if (n.message.find(text) != std::string::npos) return true;
-    return false;
 }
 
 TEST_CASE("subprogram summaries: a cycle or MODIN left open, common variables, RTS") {
