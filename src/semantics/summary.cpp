@@ -37,6 +37,24 @@ void apply(const ModeEffect<T>& e, Val<T>& v) {
     else if (e.kind == ModeEffect<T>::Kind::Unknown) v = Val<T>{};
 }
 
+// A fixed cycle or a MODIN the subprogram leaves open is open for the caller
+// from the CALL at `line` on (`place` moves it there); one it closes, or may
+// close, is as the effect says.
+template <class T, class Place>
+void apply_open(const ModeEffect<std::optional<T>>& e, Val<std::optional<T>>& v, ModeOrigin<bool, true>& from,
+                uint32_t line, ByteRange range, Place place) {
+    using K = typename ModeEffect<std::optional<T>>::Kind;
+    if (e.kind == K::Set && e.value) {
+        T x = *e.value;
+        place(x);
+        v = Val<std::optional<T>>::of(std::move(x));
+        from.set(true, line, range);
+    } else {
+        apply(e, v);
+        if (e.kind != K::Kept) from.clear();
+    }
+}
+
 }  // namespace
 
 ModalState summary_probe(int which) {
@@ -96,17 +114,10 @@ void apply_summary(const SubprogramSummary& summary, uint32_t line, ByteRange ra
     } else {
         apply(summary.cycle, s.cycle);
     }
-    using UK = ModeEffect<std::optional<OpenCycle>>::Kind;
-    if (summary.uncancelled.kind == UK::Set && summary.uncancelled.value) {
-        OpenCycle o = *summary.uncancelled.value;
+    apply_open(summary.uncancelled, s.uncancelled, s.cycle_from, line, range, [&](OpenCycle& o) {
         o.start = range;
         o.via = summary.name;
-        s.uncancelled = Val<std::optional<OpenCycle>>::of(std::move(o));
-        s.cycle_from.set(true, line, range);
-    } else {
-        apply(summary.uncancelled, s.uncancelled);
-        if (summary.uncancelled.kind != UK::Kept) s.cycle_from.clear();
-    }
+    });
     // The common variables it writes.
     if (summary.writes_any) {
         for (auto it = s.vars.begin(); it != s.vars.end();)
@@ -120,17 +131,10 @@ void apply_summary(const SubprogramSummary& summary, uint32_t line, ByteRange ra
         if (!summary.clobbers_reserved.empty())
             for (int n = 120; n <= 128; ++n) s.vars.erase("VC" + std::to_string(n));
     }
-    using MK = ModeEffect<std::optional<ActiveModin>>::Kind;
-    if (summary.modin.kind == MK::Set && summary.modin.value) {
-        ActiveModin m = *summary.modin.value;
+    apply_open(summary.modin, s.modin, s.modin_from, line, range, [&](ActiveModin& m) {
         m.line = line;
         m.via = summary.name;
-        s.modin = Val<std::optional<ActiveModin>>::of(std::move(m));
-        s.modin_from.set(true, line, range);
-    } else {
-        apply(summary.modin, s.modin);
-        if (summary.modin.kind != MK::Kept) s.modin_from.clear();
-    }
+    });
 }
 
 bool same_effect(const SubprogramSummary& a, const SubprogramSummary& b) {
