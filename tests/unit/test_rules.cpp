@@ -23,6 +23,7 @@
 
 #include "api/fix.h"
 #include "support/embedded.h"
+#include "engine/summaries.h"
 #include "engine/workspace.h"
 #include "expectations.h"
 #include "rules/registry.h"
@@ -99,14 +100,19 @@ std::vector<RuleMeta> rules_under_test() {
 
 // How a fixture of `rule` runs: only that rule, the osplint.toml of its
 // folder, and the names of the subprograms beside it.
+// A fixture is checked as `osplint check` checks a file: the subprograms it
+// calls, of its own or in the subprogram files beside it, are summarised.
 struct FixtureRun {
     Config config;
     ProgramNames names;
+    SubprogramDirectories dirs;
+    SubprogramSummaries summaries{builtin_rules(), dirs};
     AnalysisOptions options;
     FixtureRun(const fs::path& fixture, std::string_view rule) : config(config_for(fixture.parent_path())) {
         options.only_rules = {std::string(rule)};
-        SubprogramDirectories().add_names(fixture.parent_path(), names);
+        dirs.add_names(fixture.parent_path(), names);
         options.known_programs = &names;
+        options.summaries = &summaries;
     }
     FixtureRun(const FixtureRun&) = delete;
     FixtureRun& operator=(const FixtureRun&) = delete;
