@@ -21,7 +21,7 @@ public:
         if (!spec || !macro::is_invocation(*c) || !spec->args_documented) return;
         for (const auto& a : c->args) {
             if (!a.word) continue;
-            if (spec->arg(a.name)) continue;
+            if (a.spec || spec->arg(a.name)) continue;  // a.spec: linked to the call's spec, which is `spec`
             if (c->kind == CallKind::GCode && spec->arg_for_address(a.word->address)) continue;
             std::string msg;
             if (c->kind != CallKind::GCode && a.name.size() == 1) {

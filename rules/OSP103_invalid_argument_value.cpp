@@ -90,8 +90,8 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
             return a && lookup(*a).value ? Tri::True : Tri::False;
         });
         if (applies != Tri::True) continue;
-        auto lt = parse_catalog_expr(r.left);
-        auto rt = parse_catalog_expr(r.right);
+        const auto* lt = catalog_expr(r.left);
+        const auto* rt = catalog_expr(r.right);
         if (!lt || !rt) continue;
         auto l = eval_terms(*lt, spec, lookup);
         auto rv = eval_terms(*rt, spec, lookup);

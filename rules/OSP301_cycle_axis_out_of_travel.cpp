@@ -29,7 +29,7 @@ std::string travel_text(const Config& c, char axis) {
 // The word that sets the point: an argument of the expression written on the
 // call line, the cycle's R or depth word on the block.
 ByteRange where_for(const BlockView& v, const Envelope& env, const MotionPoint& p) {
-    if (auto terms = parse_catalog_expr(p.expr)) {
+    if (const auto* terms = catalog_expr(p.expr)) {
         for (const auto& t : *terms) {
             if (t.name.empty()) continue;
             if (env.source == MotionSource::Macro && v.call) {

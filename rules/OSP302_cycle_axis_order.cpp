@@ -40,7 +40,7 @@ struct Side {
 // `describe` false: the value only (most relations hold, and then no text is needed).
 Side evaluate_side(const std::string& text, const std::function<Value(const std::string&)>& lookup, bool describe) {
     Side s;
-    auto terms = parse_catalog_expr(text);
+    const auto* terms = catalog_expr(text);
     if (!terms) return s;
     double sum = 0;
     std::string shown;
@@ -69,7 +69,7 @@ Side evaluate_side(const std::string& text, const std::function<Value(const std:
 
 // A side made only of cycle-axis coordinates and numbers (PR, PZ+1): a point on the axis.
 bool is_point(const std::string& text, const MacroSpec& spec) {
-    auto terms = parse_catalog_expr(text);
+    const auto* terms = catalog_expr(text);
     if (!terms) return false;
     int names = 0;
     for (const auto& t : *terms) {
@@ -99,7 +99,9 @@ public:
         const char axis = plane ? plane_axes(*plane).cycle : 0;
 
         bool describe = false;  // the `how` of each value: only for a finding
-        auto lookup = [&](const std::string& name) -> Value {
+        // One std::function for every side evaluated below (a lambda passed
+        // as is would be wrapped, and allocated, at each call).
+        const std::function<Value(const std::string&)> lookup = [&](const std::string& name) -> Value {
             Value out;
             const ArgSpec* a = spec->arg(name);
             if (const MacroArg* m = a ? macro::given(*c, *a) : c->arg(name)) {

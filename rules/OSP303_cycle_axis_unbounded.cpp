@@ -33,7 +33,7 @@ void report_unbounded_envelope(RuleContext& ctx, const BlockView& v, const Envel
         msg += "; travel limits cannot be checked for it";
         if (!unknown.empty()) {
             // Point at the word whose value is not known, when it is on this line.
-            if (auto terms = parse_catalog_expr(unknown.front()->expr))
+            if (const auto* terms = catalog_expr(unknown.front()->expr))
                 for (const auto& t : *terms) {
                     if (t.name.empty()) continue;
                     if (v.call)

@@ -47,7 +47,7 @@ inline const Word* m_code(const MacroCall& c, double code) {
 // expression it cannot parse when it loads.
 inline bool is_order_relation(const Relation& r, const MacroSpec& spec) {
     for (const auto* side : {&r.left, &r.right}) {
-        auto terms = parse_catalog_expr(*side);
+        const auto* terms = catalog_expr(*side);
         if (!terms) return false;
         for (const auto& t : *terms)
             if (!t.name.empty())
@@ -57,12 +57,7 @@ inline bool is_order_relation(const Relation& r, const MacroSpec& spec) {
 }
 
 // The argument as given (by its name or one of its aliases), or nullptr.
-inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) {
-    if (const MacroArg* m = c.arg(a.name)) return m;
-    for (const auto& alias : a.aliases)
-        if (const MacroArg* m = c.arg(alias)) return m;
-    return nullptr;
-}
+inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) { return c.given(a); }
 
 // Where a fact of the catalog is printed, as a citation: the manual and the
 // section holding `line_source` (else the macro's own source). A shop's

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <mutex>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "catalog/catalog_internal.h"
 #include "support/embedded.h"
@@ -95,6 +96,21 @@ std::string_view to_string(MacroUnits v) { return name_in(kUnits, v); }
 std::string_view to_string(G91Mode v) { return name_in(kG91, v); }
 std::string_view to_string(Hazard v) { return name_in(kHazard, v); }
 
+namespace {
+struct TextHash {
+    using is_transparent = void;
+    size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+};
+}  // namespace
+
+const std::vector<ExprTerm>* catalog_expr(std::string_view text) {
+    thread_local std::unordered_map<std::string, std::optional<std::vector<ExprTerm>>, TextHash, std::equal_to<>>
+        parsed;
+    auto it = parsed.find(text);
+    if (it == parsed.end()) it = parsed.emplace(std::string(text), parse_catalog_expr(text)).first;
+    return it->second ? &*it->second : nullptr;
+}
+
 std::optional<std::vector<ExprTerm>> parse_catalog_expr(std::string_view text) {
     std::vector<ExprTerm> terms;
     std::size_t i = 0;
@@ -141,7 +157,37 @@ std::optional<char> ArgSpec::axis(int plane) const {
     return axes[i];
 }
 
+namespace {
+// A name of at most 8 characters, upper-case, as a number (0: longer, or empty).
+uint64_t packed_name(std::string_view n) {
+    if (n.empty() || n.size() > 8) return 0;
+    uint64_t key = 0;
+    for (char c : n) key = key << 8 | static_cast<unsigned char>(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    return key;
+}
+}  // namespace
+
+void MacroSpec::index_args() {
+    arg_index.clear();
+    arg_index_of = 0;
+    std::vector<std::pair<uint64_t, uint16_t>> index;
+    for (size_t i = 0; i < args.size(); ++i) index.emplace_back(packed_name(args[i].name), static_cast<uint16_t>(i));
+    for (size_t i = 0; i < args.size(); ++i)
+        for (const auto& al : args[i].aliases) index.emplace_back(packed_name(al), static_cast<uint16_t>(i));
+    for (const auto& [key, i] : index)
+        if (!key) return;  // a name too long to pack: arg() compares the names
+    arg_index = std::move(index);
+    arg_index_of = args.size();
+}
+
 const ArgSpec* MacroSpec::arg(std::string_view n) const {
+    if (!arg_index.empty() && arg_index_of == args.size()) {
+        const uint64_t key = packed_name(n);
+        if (!key) return nullptr;  // every name is packed: a longer one is none of them
+        for (const auto& [k, i] : arg_index)
+            if (k == key) return &args[i];
+        return nullptr;
+    }
     for (const auto& a : args)
         if (iequals(a.name, n)) return &a;
     for (const auto& a : args)

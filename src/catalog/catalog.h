@@ -249,6 +249,13 @@ struct MacroSpec {
     std::vector<Caution> cautions;
     std::vector<Reading> readings;
     std::string origin;  // the file that defined it last
+    // `args` by name, then by alias, each packed upper-case into a number
+    // (index_args, when the catalog is read: arg() runs for every argument of
+    // every call). Empty, or made for another number of arguments: arg()
+    // compares the names.
+    std::vector<std::pair<uint64_t, uint16_t>> arg_index;
+    size_t arg_index_of = 0;  // args.size() when it was made
+    void index_args();
 
     // By name or alias, case-insensitive.
     const ArgSpec* arg(std::string_view name) const;
@@ -352,5 +359,10 @@ struct ExprTerm {
 };
 // Parses an expression; nullopt when it does not follow the syntax.
 std::optional<std::vector<ExprTerm>> parse_catalog_expr(std::string_view text);
+// The same, parsed once per thread and kept: the rules and the motion
+// evaluator read the catalog's expressions at every call. nullptr when the
+// text does not follow the syntax. The pointer stays valid for the thread's
+// life; the texts are the catalogs' own, so the store stays small.
+const std::vector<ExprTerm>* catalog_expr(std::string_view text);
 
 }  // namespace osplint

@@ -658,6 +658,7 @@ std::vector<StagedMacro> stage_macros(const toml::table& macros_table, const std
         apply_spec(one, st.spec);
         one.done();
         st.spec.origin = origin;
+        st.spec.index_args();
         validate_spec(st.spec, origin, st.line, r.key_path(key));
         staged.push_back(std::move(st));
     }
@@ -732,6 +733,7 @@ Catalog Catalog::from_toml_text(std::string_view text, std::string origin) {
             apply_spec(one, spec);
             one.done();
             spec.origin = origin;
+            spec.index_args();
             validate_spec(spec, origin, line_of(*node), cr.key_path(key));
             if (cat.find_cycle(code)) cr.fail(node, key, "duplicate fixed cycle");
             cat.cycles_.push_back(std::move(spec));

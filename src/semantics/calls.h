@@ -13,6 +13,7 @@
 
 namespace osplint {
 
+struct ArgSpec;
 struct MacroSpec;
 struct SubprogramSummary;
 
@@ -30,6 +31,9 @@ struct MacroArg {
     std::string name;             // argument name as the macro sees it ("PR"; G-code "R" -> "PR")
     const Word* word = nullptr;   // the word on the block (nullptr for MODIN-carried args)
     Val<double> value;            // evaluated in the state before the block
+    // The catalog's argument this is, by its name or an alias written exactly
+    // so (link_arg_specs); nullptr when there is none or it was not looked up.
+    const ArgSpec* spec = nullptr;
 };
 
 struct MacroCall {
@@ -46,12 +50,25 @@ struct MacroCall {
     std::vector<const Word*> m_codes; // M words written on the call block
     uint32_t modin_line = 0;          // for ModinPositioning: the MODIN block's line
 
+    // Set by link_arg_specs: for each argument of `spec`, 1 + the index in
+    // `args` of the one given for it, 0 when none is, kGivenTwice when two are.
+    std::vector<uint16_t> given_index;
+    static constexpr uint16_t kGivenTwice = 0xFFFF;
+
     const MacroArg* arg(std::string_view n) const {
         for (const auto& a : args)
             if (a.name == n) return &a;
         return nullptr;
     }
+    // The argument given for `a` (an argument of any spec): by its name, else
+    // by its aliases in order; nullptr when not given.
+    const MacroArg* given(const ArgSpec& a) const;
 };
+
+// Looks up the catalog's argument of each of `call`'s arguments, so that
+// MacroCall::given compares pointers instead of names (it runs for every
+// argument of the spec, on every call, in several rules).
+void link_arg_specs(MacroCall& call);
 
 // One block as the analysis sees it.
 struct BlockView {

@@ -30,7 +30,7 @@ bool zero_when_absent(const ArgSpec& a) {
 Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional,
                         bool describe) {
     Evaluated out;
-    auto terms = parse_catalog_expr(text);
+    const auto* terms = catalog_expr(text);
     if (!terms) {
         out.why = "\"" + text + "\" is not an expression osplint can read";
         out.worked = "? (" + out.why + ")";
@@ -109,11 +109,8 @@ std::string addr_of(const MacroSpec& spec, const std::string& name) {
 }
 
 const MacroArg* given_arg(const MacroCall& c, const ArgSpec* a, const std::string& name) {
-    if (a) {
-        if (const MacroArg* m = c.arg(a->name)) return m;
-        for (const auto& alias : a->aliases)
-            if (const MacroArg* m = c.arg(alias)) return m;
-    }
+    if (a)
+        if (const MacroArg* m = c.given(*a)) return m;
     return c.arg(name);
 }
 

@@ -4,6 +4,7 @@
 // before the block.
 #include "semantics/transfer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -120,12 +121,53 @@ std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState
 
 }  // namespace
 
+void link_arg_specs(MacroCall& call) {
+    call.given_index.clear();
+    if (call.spec) call.given_index.assign(call.spec->args.size(), 0);
+    // given_index holds uint16_t: a call of more arguments is looked up by name.
+    if (call.args.size() >= MacroCall::kGivenTwice - 1) call.given_index.clear();
+    for (size_t k = 0; k < call.args.size(); ++k) {
+        MacroArg& m = call.args[k];
+        m.spec = nullptr;
+        if (!call.spec) continue;
+        const ArgSpec* a = call.spec->arg(m.name);
+        if (!a) continue;
+        // given() compares names exactly: link only a name written as the spec has it.
+        if (a->name != m.name && std::find(a->aliases.begin(), a->aliases.end(), m.name) == a->aliases.end())
+            continue;
+        m.spec = a;
+        if (call.given_index.empty()) continue;
+        uint16_t& slot = call.given_index[static_cast<size_t>(a - call.spec->args.data())];
+        slot = slot ? MacroCall::kGivenTwice : static_cast<uint16_t>(k + 1);
+    }
+}
+
+const MacroArg* MacroCall::given(const ArgSpec& a) const {
+    if (spec && !given_index.empty() && given_index.size() == spec->args.size() && &a >= spec->args.data() &&
+        &a < spec->args.data() + spec->args.size()) {
+        // Names and aliases are distinct within a spec, so each argument links
+        // to one ArgSpec at most; one given twice (by its name and an alias)
+        // takes the order of the names below.
+        const uint16_t slot = given_index[static_cast<size_t>(&a - spec->args.data())];
+        if (slot != kGivenTwice) return slot ? &args[slot - 1] : nullptr;
+    }
+    if (const MacroArg* m = arg(a.name)) return m;
+    for (const auto& alias : a.aliases)
+        if (const MacroArg* m = arg(alias)) return m;
+    return nullptr;
+}
+
 std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog) {
     if (b.kind != LineKind::Block) return std::nullopt;
     const Statement* st = b.statement(StmtKind::Call);
     if (!st) st = b.statement(StmtKind::Modin);
     MacroCall call = st ? statement_call(b, *st, catalog) : code_call(b, catalog);
-    if (call.kind == CallKind::None) return modin_positioning_call(b, before, catalog);
+    if (call.kind == CallKind::None) {
+        std::optional<MacroCall> positioning = modin_positioning_call(b, before, catalog);
+        if (positioning) link_arg_specs(*positioning);
+        return positioning;
+    }
+    link_arg_specs(call);
     for (auto& a : call.args)
         if (a.word)
             if (auto v = word_value(b, *a.word, before)) a.value = Val<double>::of(*v);

@@ -151,6 +151,7 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
     }
     uint32_t end = r;
     uint32_t pos = r;
+    if (outline && plain_call_args(r)) return n;
     while (true) {
         pos = skip_blanks(pos);
         if (pos >= n) break;
@@ -166,6 +167,36 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
     }
     b->statements[index].range = abs(p, end);
     return n;
+}
+
+// Blanks and `Pname=number` items up to the end of the line: a name of P, a
+// letter, then letters or digits (no keyword starts with P, and `=` follows it), then an
+// optional sign and a decimal literal of at most 15 digits.
+bool FastLineParser::Impl::plain_call_args(uint32_t p) const {
+    while (true) {
+        p = skip_blanks(p);
+        if (p >= n) return true;
+        if ((s[p] != 'P' && s[p] != 'p') || p + 1 >= n || !is_letter(s[p + 1])) return false;  // `P1=`: a glued word
+        const uint32_t e = alnum_end(p);
+        if (e - p < 2 || e - p > kNameMax) return false;
+        p = skip_blanks(e);
+        if (p >= n || s[p] != '=') return false;
+        p = skip_blanks(p + 1);
+        if (p < n && (s[p] == '+' || s[p] == '-')) ++p;
+        uint32_t digits = 0;
+        bool point = false;
+        for (; p < n; ++p) {
+            if (is_digit(s[p])) {
+                ++digits;
+            } else if (s[p] == '.' && !point) {
+                point = true;
+            } else {
+                break;
+            }
+        }
+        if (digits == 0 || digits > 15) return false;
+        if (p < n && !is_blank(s[p])) return false;
+    }
 }
 
 // `X-.75`: a letter other than N, O and V directly followed by a number
@@ -510,6 +541,13 @@ FastLineParser::~FastLineParser() { delete impl_; }
 bool FastLineParser::parse_fast_only(const LineRef& line, Block& out) {
     const bool ok = impl_->run(line, out);
     last_plain_ = ok && impl_->plain;
+    return ok;
+}
+
+bool FastLineParser::parse_outline(const LineRef& line, Block& out) {
+    impl_->outline = true;
+    const bool ok = parse(line, out);
+    impl_->outline = false;
     return ok;
 }
 

@@ -45,6 +45,13 @@ public:
     // is outside the subset it recognises.
     bool parse_fast_only(const LineRef& line, Block& out);
 
+    // As parse, but a CALL or MODIN whose arguments are all `Pname=number`
+    // (the shape posts write) keeps only its statement: no words, no
+    // expressions for the arguments. Such arguments hold no sequence name, no
+    // jump and no comment, so what the outline reads of the block
+    // (syntax/outline.h) is the same as from parse.
+    bool parse_outline(const LineRef& line, Block& out);
+
     // Whether the last line parsed is a plain move (analyzer.h:
     // is_plain_move_block) of the simplest shape: glued literal words only. A
     // false answer proves nothing: ask is_plain_move_block then.

@@ -112,6 +112,21 @@ inline bool equals(const char* name, uint32_t len, std::string_view kw) {
     return true;
 }
 
+// The first letters of a table's keywords, one bit each (A = bit 0): most
+// names (PX, PZ, VC1) start with a letter no keyword of the table starts with,
+// and are passed over without reading the table.
+template <class Table, class Key>
+constexpr uint32_t first_letters(const Table& table, Key key) {
+    uint32_t mask = 0;
+    for (const auto& entry : table) mask |= 1u << (key(entry)[0] - 'A');
+    return mask;
+}
+inline bool may_start(uint32_t mask, const char* name, uint32_t len) {
+    if (len == 0) return false;
+    const unsigned k = static_cast<unsigned char>(name[0]) - 'A';
+    return k >= 26 || (mask >> k & 1u);  // not a capital letter: read the table
+}
+
 // Names the scanner turns into keyword tokens whatever follows them (when the
 // grammar expects them): the control keywords and the function names.
 inline Keyword control_keyword(const char* name, uint32_t len) {
@@ -127,6 +142,9 @@ inline Keyword control_keyword(const char* name, uint32_t len) {
     };
     static constexpr std::string_view kFunctions[] = {"SIN",   "COS", "TAN", "ATAN",   "ATAN2", "SQRT", "ABS",  "BIN",
                                              "BCD",   "ROUND", "FIX", "FUP", "DROUND", "DFIX", "DFUP", "MOD"};
+    static constexpr auto kFirst = first_letters(kControl, [](const auto& e) { return e.first; }) |
+                                   first_letters(kFunctions, [](std::string_view e) { return e; });
+    if (!may_start(kFirst, name, len)) return Keyword::None;
     for (const auto& [kw, k] : kControl)
         if (equals(name, len, kw)) return k;
     for (std::string_view kw : kFunctions)
@@ -153,6 +171,8 @@ inline bool command_keyword(const char* name, uint32_t len) {
         // commands with free-form operands
         "DEF", "PT", "PUT", "FWRITC", "FOPENA", "FOPENB", "WRITE", "READ", "CLOSE", "PRNT", "SAVE", "EIN", "DIN",
         "RTI", "CYLNDR", "DIREC"};
+    static constexpr auto kFirst = first_letters(kWords, [](std::string_view e) { return e; });
+    if (!may_start(kFirst, name, len)) return false;
     for (std::string_view kw : kWords)
         if (equals(name, len, kw)) return true;
     return false;

@@ -25,6 +25,7 @@ struct FastLineParser::Impl {
     int depth = 0;  // bracket nesting inside an expression
     bool plain = false;  // the last line is a plain move (simple_line)
     bool sentinel = false;  // the terminator follows the text in memory (simple_line_in)
+    bool outline = false;   // parse_outline: plain CALL arguments are skipped
     // Deeper lines are left to the tree-sitter front end (bounded recursion here).
     static constexpr int kMaxDepth = 64;
 
@@ -122,6 +123,8 @@ struct FastLineParser::Impl {
         uint32_t len = 0;
         std::string_view view() const { return {text, len}; }
     };
+    // Whether [p, n) holds only `Pname=number` arguments (parse_outline).
+    bool plain_call_args(uint32_t p) const;
     bool read_name(uint32_t p, uint32_t e, Name& out) const {
         if (e - p > fast_detail::kNameMax) return false;
         out.len = e - p;

@@ -211,7 +211,7 @@ private:
         pos_ += text + term;
         if (term) ++line_;
         ++out_.lines_parsed;
-        parser_.parse(line, block_);
+        parser_.parse_outline(line, block_);
         take(block_, line);
     }
 

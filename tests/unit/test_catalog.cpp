@@ -446,6 +446,14 @@ TEST_CASE("catalog expressions") {
     CHECK_FALSE(parse_catalog_expr("PZ*2").has_value());
     CHECK_FALSE(parse_catalog_expr("PZ+").has_value());
     CHECK_FALSE(parse_catalog_expr("").has_value());
+    // Parsed once, then the same terms every time.
+    const auto* once = catalog_expr("PZ - PI - PL");
+    REQUIRE(once);
+    CHECK(once->size() == 3);
+    CHECK((*once)[2].name == "PL");
+    CHECK(catalog_expr("PZ - PI - PL") == once);
+    CHECK(catalog_expr("PZ*2") == nullptr);
+    CHECK(catalog_expr("PZ*2") == nullptr);
 }
 
 TEST_CASE("the shipped catalog is ASCII") {

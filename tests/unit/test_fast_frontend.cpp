@@ -199,3 +199,73 @@ TEST_CASE("tree-sitter front end: an error line is parsed on its own, whatever i
     for (const auto& d : r.diagnostics) syntax = syntax || (d.rule == "OSP001" && d.range.start.line == 2);
     CHECK(syntax);
 }
+
+namespace {
+
+// What the outline (syntax/outline.cpp, Outliner::take) reads of a block:
+// parse_outline must give the same for every line.
+std::string outline_view(const Block& b) {
+    std::string v = std::to_string(static_cast<int>(b.kind)) + (b.is_empty() ? " empty" : "") +
+                    (b.errors.empty() ? "" : " errors") + (b.block_delete ? " /" : "");
+    if (b.program_name)
+        v += " O" + b.program_name->name + "@" + std::to_string(b.program_name->range.begin) + "-" +
+             std::to_string(b.program_name->range.end);
+    for (const auto& st : b.statements)
+        v += " st" + std::to_string(static_cast<int>(st.kind)) + ":" + st.name + ":" + std::to_string(st.loop);
+    for (const auto& w : b.words)
+        if (w.address == "N") v += " N" + w.value_text;
+    for (const auto& c : b.comments) v += " (" + std::to_string(c.range.begin) + "-" + std::to_string(c.range.end);
+    return v;
+}
+
+// Compares parse_outline with parse on every line of `text`; returns the differences.
+std::string compare_outline(const std::string& name, const std::string& text) {
+    FastLineParser full, outline;
+    Block a, b;
+    std::string report;
+    for_each_line(text, [&](const LineRef& line) {
+        full.parse(line, a);
+        outline.parse_outline(line, b);
+        if (outline_view(a) != outline_view(b) && report.size() < 4000)
+            report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) + "'\n  parse:   " +
+                      outline_view(a) + "\n  outline: " + outline_view(b) + "\n";
+    });
+    return report;
+}
+
+}  // namespace
+
+TEST_CASE("fast front end: parse_outline reads what parse reads for the outline") {
+    for (const auto& f : corpus_files()) {
+        const std::string report = compare_outline(f.string(), read_all(f));
+        CHECK_MESSAGE(report.empty(), report);
+    }
+    for (uint32_t seed = 1; seed <= 100; ++seed) {
+        const std::string report = compare_outline("gen" + std::to_string(seed), Generator(seed).program());
+        CHECK_MESSAGE(report.empty(), report);
+    }
+    const auto files = corpus_files();
+    std::mt19937 rng(20261126);
+    for (int i = 0; i < 300; ++i) {
+        const std::string report = compare_outline("mut" + std::to_string(i), mutate(read_all(files[rng() % files.size()]), rng));
+        CHECK_MESSAGE(report.empty(), "round " << i << "\n" << report);
+    }
+    // The arguments the outline may skip, and those it may not.
+    FastLineParser p;
+    Block b;
+    auto outline_words = [&](const std::string& text) {
+        p.parse_outline(LineRef{text, "\n", 1, 0}, b);
+        REQUIRE(b.statements.size() >= 1);
+        CHECK(b.statements[0].kind == (text.rfind("MODIN", 0) == 0 ? StmtKind::Modin : StmtKind::Call));
+        return b.words.size();
+    };
+    CHECK(outline_words("CALL OZAGR PX=12.5 PY=-3 PZ = +.5 PFA=1000") == 0);
+    CHECK(outline_words("MODIN OG87N PR=-45. PZ=-60.") == 0);
+    CHECK(b.statements[0].name == "OG87N");
+    CHECK(outline_words("CALL O100 PX=1 N10") > 0);         // an N word: a reference
+    CHECK(outline_words("CALL O100 PX=VC1") > 0);           // an expression
+    CHECK(outline_words("CALL O100 PX=1 Q2") > 0);          // not a P name
+    CHECK(outline_words("CALL O100 PX=1 (NOTE)") > 0);      // a comment (a directive may be in it)
+    CHECK(b.comments.size() == 1);
+    CHECK(outline_words("CALL O100 PX=1234567890123456") > 0);  // more digits than the outline skips
+}

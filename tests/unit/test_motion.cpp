@@ -954,3 +954,46 @@ TEST_CASE("osplint trace --svg on the bundled examples draws well-formed picture
     CHECK(drawn == 8);
     fs::remove_all(tmp);
 }
+
+TEST_CASE("a call's arguments are found by their spec: name first, then aliases, as by name") {
+    Config config;
+    const MacroSpec* spec = config.catalog.find("OG84L");
+    REQUIRE(spec);
+    const ArgSpec* z = spec->arg("Z");
+    const ArgSpec* r = spec->arg("R");
+    const ArgSpec* l = spec->arg("L");
+    REQUIRE((z && r && l));
+    REQUIRE(spec->arg("PZ") == z);  // PZ is an alias of Z
+    auto make = [&](std::vector<std::string> names) {
+        MacroCall call;
+        call.kind = CallKind::Call;
+        call.name = "OG84L";
+        call.spec = spec;
+        for (auto& n : names) call.args.push_back(MacroArg{n, nullptr, Val<double>::of(1)});
+        return call;
+    };
+    for (bool linked : {false, true}) {
+        CAPTURE(linked);
+        MacroCall c = make({"R", "PZ"});
+        if (linked) link_arg_specs(c);
+        CHECK(c.given(*z) == &c.args[1]);
+        CHECK(c.given(*r) == &c.args[0]);
+        CHECK(c.given(*l) == nullptr);
+        if (linked) CHECK(c.args[1].spec == z);
+        // Given by its alias and its name: the name wins, wherever it is written.
+        MacroCall both = make({"PZ", "R", "Z"});
+        if (linked) link_arg_specs(both);
+        CHECK(both.given(*z) == &both.args[2]);
+        // A name in other letters than the catalog's is not the argument.
+        MacroCall lower = make({"pz"});
+        if (linked) link_arg_specs(lower);
+        CHECK(lower.given(*z) == nullptr);
+    }
+    // An argument of another spec is looked up by name.
+    const MacroSpec* other = config.catalog.find("OZAGR");
+    REQUIRE(other);
+    REQUIRE(other->arg("PZ"));
+    MacroCall c = make({"PZ"});
+    link_arg_specs(c);
+    CHECK(c.given(*other->arg("PZ")) == &c.args[0]);
+}
