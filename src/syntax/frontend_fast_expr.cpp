@@ -123,6 +123,7 @@ bool FastLineParser::Impl::may_end_here(uint32_t p) const {
     if (p >= n) return true;
     if (is_letter(s[p])) {
         // A keyword operator (EQ, AND, ...) continues the expression.
+        if (!may_be_operator(s[p])) return true;
         const uint32_t e = alnum_end(p);
         Name name;
         if (!read_name(p, e, name)) return false;

@@ -153,9 +153,16 @@ inline Keyword control_keyword(const char* name, uint32_t len) {
 }
 
 // The binary operators spelled with letters.
+inline constexpr std::string_view kOperatorKeywords[] = {"EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "EOR"};
+inline constexpr uint32_t kOperatorFirst = first_letters(kOperatorKeywords, [](std::string_view e) { return e; });
+// Whether a name starting with `c` (any case) may be an operator keyword.
+inline bool may_be_operator(char c) {
+    const char u = upper(c);
+    return may_start(kOperatorFirst, &u, 1);
+}
 inline bool operator_keyword(const char* name, uint32_t len) {
-    static constexpr std::string_view kOps[] = {"EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "EOR"};
-    for (std::string_view kw : kOps)
+    if (!may_start(kOperatorFirst, name, len)) return false;
+    for (std::string_view kw : kOperatorKeywords)
         if (equals(name, len, kw)) return true;
     return false;
 }
