@@ -50,7 +50,7 @@ while (($#)); do
 done
 [[ -x /usr/bin/time ]] || { echo "bench/run.sh: /usr/bin/time is required (Debian package 'time')" >&2; exit 2; }
 for shape in $shapes; do
-  case $shape in plain | numbered | loops | travel | bigloop) ;; *) echo "bench/run.sh: unknown shape $shape" >&2; exit 2 ;; esac
+  case $shape in plain | numbered | loops | travel | bigloop | macros) ;; *) echo "bench/run.sh: unknown shape $shape" >&2; exit 2 ;; esac
 done
 mkdir -p "$dir"
 dir=$(realpath "$dir")

@@ -170,6 +170,7 @@ uint64_t packed_name(std::string_view n) {
 void MacroSpec::index_args() {
     arg_index.clear();
     arg_index_of = 0;
+    if (args.size() > 0xFFFF) return;  // arg() compares the names
     std::vector<std::pair<uint64_t, uint16_t>> index;
     for (size_t i = 0; i < args.size(); ++i) index.emplace_back(packed_name(args[i].name), static_cast<uint16_t>(i));
     for (size_t i = 0; i < args.size(); ++i)

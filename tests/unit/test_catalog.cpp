@@ -1,6 +1,8 @@
 // The macro catalog: the shipped data against the manual tables, the schema
 // checks, configuration merges and the explain card.
 #include <doctest/doctest.h>
+
+#include <cctype>
 #include <toml++/toml.h>
 
 #include <fstream>
@@ -428,6 +430,38 @@ TEST_CASE("action sequences carry evaluable cycle-axis targets") {
                         if (!t.name.empty()) CHECK_MESSAGE(m.arg(t.name) != nullptr, m.name << " " << t.name);
                 }
         }
+}
+
+TEST_CASE("an argument found through the index is the one the names give") {
+    const Catalog& cat = Catalog::builtin();
+    size_t specs = 0, lookups = 0;
+    auto check_spec = [&](const MacroSpec& spec) {
+        ++specs;
+        CHECK_MESSAGE((spec.args.empty() || !spec.arg_index.empty()), spec.name);
+        MacroSpec plain = spec;  // without the index: arg() compares the names
+        plain.arg_index.clear();
+        std::vector<std::string> names = {"", "P", "PXX", "NOSUCHNAME", "ABCDEFGHI"};
+        for (const auto& a : spec.args) {
+            names.push_back(a.name);
+            for (const auto& al : a.aliases) names.push_back(al);
+        }
+        for (size_t k = 0, n = names.size(); k < n; ++k) {
+            std::string lower = names[k];
+            for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            names.push_back(lower);
+        }
+        for (const auto& name : names) {
+            ++lookups;
+            const ArgSpec* a = spec.arg(name);
+            const ArgSpec* b = plain.arg(name);
+            CHECK_MESSAGE((a ? a - spec.args.data() : -1) == (b ? b - plain.args.data() : -1),
+                          spec.name << " " << name);
+        }
+    };
+    for (const auto& m : cat.macros()) check_spec(m);
+    for (const auto& c : cat.cycles()) check_spec(c);
+    CHECK(specs > 10);
+    MESSAGE(specs << " macros, " << lookups << " names");
 }
 
 TEST_CASE("catalog expressions") {
