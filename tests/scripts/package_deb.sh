@@ -63,7 +63,10 @@ owner_of() {
 for elf in "$root/usr/bin/osplint" "$root"/usr/lib*/libosplint.so.*.*.*; do
   resolved=$(ldd "$elf")
   while IFS= read -r lib; do
-    path=$(awk -v l="$lib" '$1 == l && $2 == "=>" {print $3; exit}' <<<"$resolved")
+    # "name => /path (addr)", or "/path (addr)" for the dynamic loader.
+    path=$(awk -v l="$lib" '
+      $1 == l && $2 == "=>" {print $3; exit}
+      $1 ~ /^\// && substr($1, length($1) - length(l)) == "/" l {print $1; exit}' <<<"$resolved")
     owner=$([[ -n $path ]] && owner_of "$path" || true)
     if [[ -z $owner ]]; then
       not_ok "$(basename "$elf") needs $lib ($path), which no package provides"
