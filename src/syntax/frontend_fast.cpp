@@ -161,7 +161,14 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
             continue;
         }
         if (!is_letter(s[pos])) return kFail;
-        pos = item(pos, Ctx::CallArgs);
+        // `PX=12.5`, the argument posts write by the million, without the
+        // general path's keyword and operator checks: its expression ends
+        // there when the line does or another P name follows.
+        PlainArg a;
+        if (plain_arg(pos, a) && (skip_blanks(a.end) >= n || upper(s[skip_blanks(a.end)]) == 'P'))
+            pos = plain_arg_word(pos, a);
+        else
+            pos = item(pos, Ctx::CallArgs);
         if (pos == kFail) return kFail;
         end = pos;
     }
@@ -169,34 +176,57 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
     return n;
 }
 
-// Blanks and `Pname=number` items up to the end of the line: a name of P, a
-// letter, then letters or digits (no keyword starts with P, and `=` follows it), then an
-// optional sign and a decimal literal of at most 15 digits.
+// `Pname=number` at p: a name of P, a letter, then letters or digits (no
+// keyword starts with P, and `=` follows it), then an optional sign and a
+// decimal literal of at most 15 digits, followed by a blank or the end.
+bool FastLineParser::Impl::plain_arg(uint32_t p, PlainArg& a) const {
+    if ((s[p] != 'P' && s[p] != 'p') || p + 1 >= n || !is_letter(s[p + 1])) return false;  // `P1=`: a glued word
+    const uint32_t e = alnum_end(p);
+    if (e - p > kNameMax) return false;
+    p = skip_blanks(e);
+    if (p >= n || s[p] != '=') return false;
+    p = skip_blanks(p + 1);
+    a.name_end = e;
+    a.value_begin = p;
+    if (p < n && (s[p] == '+' || s[p] == '-')) ++p;
+    uint32_t digits = 0;
+    bool point = false;
+    for (; p < n; ++p) {
+        if (is_digit(s[p])) {
+            ++digits;
+        } else if (s[p] == '.' && !point) {
+            point = true;
+        } else {
+            break;
+        }
+    }
+    if (digits == 0 || digits > 15) return false;
+    if (p < n && !is_blank(s[p])) return false;
+    a.end = p;
+    return true;
+}
+
+// Blanks and `Pname=number` items up to the end of the line.
 bool FastLineParser::Impl::plain_call_args(uint32_t p) const {
+    PlainArg a;
     while (true) {
         p = skip_blanks(p);
         if (p >= n) return true;
-        if ((s[p] != 'P' && s[p] != 'p') || p + 1 >= n || !is_letter(s[p + 1])) return false;  // `P1=`: a glued word
-        const uint32_t e = alnum_end(p);
-        if (e - p < 2 || e - p > kNameMax) return false;
-        p = skip_blanks(e);
-        if (p >= n || s[p] != '=') return false;
-        p = skip_blanks(p + 1);
-        if (p < n && (s[p] == '+' || s[p] == '-')) ++p;
-        uint32_t digits = 0;
-        bool point = false;
-        for (; p < n; ++p) {
-            if (is_digit(s[p])) {
-                ++digits;
-            } else if (s[p] == '.' && !point) {
-                point = true;
-            } else {
-                break;
-            }
-        }
-        if (digits == 0 || digits > 15) return false;
-        if (p < n && !is_blank(s[p])) return false;
+        if (!plain_arg(p, a)) return false;
+        p = a.end;
     }
+}
+
+uint32_t FastLineParser::Impl::plain_arg_word(uint32_t p, const PlainArg& a) {
+    Name name;
+    read_name(p, a.name_end, name);  // a P name: no loop keyword to split
+    Word& w = new_word();
+    if (word_number(w, a.value_begin) != a.end) return kFail;
+    set_text(w.address, name.text, name.len);
+    w.range = {base + p, w.value_range.end};
+    w.address_range = abs(p, a.name_end);
+    w.equals = true;
+    return a.end;
 }
 
 // `X-.75`: a letter other than N, O and V directly followed by a number

@@ -123,8 +123,18 @@ struct FastLineParser::Impl {
         uint32_t len = 0;
         std::string_view view() const { return {text, len}; }
     };
+    // A `Pname=number` call argument at p: the end of its name, where its
+    // value (sign included) begins, and its end. Nothing is emitted.
+    struct PlainArg {
+        uint32_t name_end = 0;
+        uint32_t value_begin = 0;
+        uint32_t end = 0;
+    };
+    bool plain_arg(uint32_t p, PlainArg& a) const;
     // Whether [p, n) holds only `Pname=number` arguments (parse_outline).
     bool plain_call_args(uint32_t p) const;
+    // The word of a plain argument, as assignment() makes it.
+    uint32_t plain_arg_word(uint32_t p, const PlainArg& a);
     bool read_name(uint32_t p, uint32_t e, Name& out) const {
         if (e - p > fast_detail::kNameMax) return false;
         out.len = e - p;
