@@ -177,7 +177,11 @@ void apply_subprogram_run(const MacroCall* call, const MacroSpec* spec, const Mo
 }
 
 void erase_reserved_common(ModalState& s) {
-    for (int n = 120; n <= 128; ++n) s.vars.erase("VC" + std::to_string(n));
+    // VC120 ... VC128 sort together (with longer names such as VC1200 between them).
+    if (s.vars.empty()) return;
+    const std::string first = "VC120", last = "VC128";
+    for (auto it = s.vars.lower_bound(first); it != s.vars.end() && it->first <= last;)
+        it = it->first.size() == first.size() ? s.vars.erase(it) : std::next(it);
 }
 
 void erase_all_common(ModalState& s) {

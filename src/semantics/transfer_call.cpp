@@ -54,6 +54,7 @@ MacroCall statement_call(const Block& b, const Statement& st, const Catalog& cat
     call.name = st.name;
     call.name_range = st.name_range;
     call.spec = catalog.find(st.name);
+    call.args.reserve(b.words.size());
     for (const auto& w : b.words) {
         if (w.address == "M") {
             call.m_codes.push_back(&w);
@@ -81,6 +82,7 @@ MacroCall code_call(const Block& b, const Catalog& catalog) {
         call.name = spec->name;
         call.name_range = w.range;
         call.spec = spec;
+        call.args.reserve(b.words.size());
         for (const auto& a : b.words) {
             if (&a == &w) continue;
             if (a.address == "M") {
@@ -109,6 +111,7 @@ std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState
     call.name = m.macro;
     call.spec = catalog.find(m.macro);
     call.modin_line = m.line;
+    call.args.reserve(m.given.size());
     for (const auto& name : m.given) {
         MacroArg a{name, nullptr, {}};
         if (auto it = m.values.find(name); it != m.values.end()) a.value = Val<double>::of(it->second);

@@ -171,6 +171,24 @@ TEST_CASE("modal state: variables with known constant values") {
     CHECK(r.at(7).after.vars.count("PX") == 1);
 }
 
+TEST_CASE("modal state: a macro that keeps VC120-VC128 for itself forgets those nine only") {
+    auto r = run(
+        "O1000\n"                                                  // 1
+        "VC119=1 VC120=2 VC124=3 VC128=4 VC129=5 VC1200=6 VC12=7\n"  // 2
+        "CALL OZAGR PR=5 PZ=-20 PI=12\n"                          // 3
+        "M30\n");
+    const auto& before = r.at(2).after.vars;
+    const auto& after = r.at(3).after.vars;
+    for (const char* kept : {"VC119", "VC129", "VC1200", "VC12"}) {
+        CHECK_MESSAGE(before.count(kept) == 1, kept);
+        CHECK_MESSAGE(after.count(kept) == 1, kept);
+    }
+    for (const char* gone : {"VC120", "VC124", "VC128"}) {
+        CHECK_MESSAGE(before.count(gone) == 1, gone);
+        CHECK_MESSAGE(after.count(gone) == 0, gone);
+    }
+}
+
 TEST_CASE("merged state at a forward GOTO target") {
     const std::string head =
         "O1000\n"                  // 1
