@@ -264,8 +264,12 @@ const MacroSpec* Catalog::find_by_code(std::string_view code) const {
 }
 
 const MacroSpec* Catalog::find(std::string_view name) const {
+    if (name.empty()) return nullptr;
+    // Most names have five letters and share their first ones (OG87C, OG87N):
+    // the last letter tells them apart before the whole name is compared.
+    const char last = ascii_upper(name.back());
     for (const auto& m : macros_)
-        if (iequals(m.name, name)) return &m;
+        if (m.name.size() == name.size() && ascii_upper(m.name.back()) == last && iequals(m.name, name)) return &m;
     return nullptr;
 }
 
