@@ -148,7 +148,8 @@ const LineData& Positions::scan(StartOk&& start_ok, Stop&& stop) {
     // The checkpoints grow in offset and line: the last one `start_ok` accepts.
     auto it = std::partition_point(checkpoints_.begin(), checkpoints_.end(), start_ok);
     const Checkpoint cp = it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
-    LineStream ls(*src_, size_t(64) << 10);
+    // A checkpoint is at most 1024 lines back: a small buffer (the stream grows it for a long line).
+    LineStream ls(*src_, size_t(16) << 10);
     ls.seek(cp.offset, cp.line);
     LineRef l;
     cache_ = LineData{};

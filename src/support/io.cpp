@@ -360,7 +360,14 @@ bool LineStream::fill() {
         stop_reason_ = line_too_long_message(line_);
         return false;
     }
-    if (buf_.size() < chunk_) buf_.resize(chunk_);
+    if (buf_.size() < chunk_) {
+        // No larger than the source, when its size is known: the walk of one
+        // small subprogram of a file must not clear a whole chunk.
+        size_t want = chunk_;
+        if (const std::optional<uint64_t> size = src_->size())
+            want = static_cast<size_t>(std::min<uint64_t>(chunk_, std::max<uint64_t>(*size + 1, 256)));
+        if (buf_.size() < want) buf_.resize(want);
+    }
     if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // a line longer than the buffer
     const int64_t r = src_->read(buf_offset_ + end_, buf_.data() + end_, buf_.size() - end_);
     if (r < 0) {
