@@ -305,6 +305,12 @@ void LineStream::seek(uint64_t offset, uint32_t line) {
     eof_ = false;
 }
 
+size_t line_buffer_size(const ByteSource& src, size_t chunk) {
+    const std::optional<uint64_t> size = src.size();
+    // One byte more than the source, so that the read that finds its end needs no second buffer.
+    return size ? static_cast<size_t>(std::min<uint64_t>(chunk, std::max<uint64_t>(*size + 1, 256))) : chunk;
+}
+
 bool LineStream::next(LineRef& out) {
     while (true) {
         const char* p = buf_.data() + pos_;
@@ -361,11 +367,7 @@ bool LineStream::fill() {
         return false;
     }
     if (buf_.size() < chunk_) {
-        // No larger than the source, when its size is known: the walk of one
-        // small subprogram of a file must not clear a whole chunk.
-        size_t want = chunk_;
-        if (const std::optional<uint64_t> size = src_->size())
-            want = static_cast<size_t>(std::min<uint64_t>(chunk_, std::max<uint64_t>(*size + 1, 256)));
+        const size_t want = line_buffer_size(*src_, chunk_);
         if (buf_.size() < want) buf_.resize(want);
     }
     if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // a line longer than the buffer

@@ -175,6 +175,11 @@ bool write_file_atomically(const std::string& path, const std::function<bool(con
 // The first LF or CR in [p, e), or nullptr.
 const char* find_line_break(const char* p, const char* e);
 
+// The size of a line-reading buffer for `src`: `chunk`, or less when the
+// source is known to be smaller (one subprogram of a file must not clear a
+// whole chunk). The readers grow it for a line longer than that.
+size_t line_buffer_size(const ByteSource& src, size_t chunk);
+
 // Lines of a ByteSource (terminators LF, CRLF and a lone CR). A LineRef stays
 // valid until the next call of next() or seek().
 class LineStream {

@@ -165,10 +165,9 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
         // general path's keyword and operator checks: its expression ends
         // there when the line does or another P name follows.
         PlainArg a;
-        if (plain_arg(pos, a) && (skip_blanks(a.end) >= n || upper(s[skip_blanks(a.end)]) == 'P'))
-            pos = plain_arg_word(pos, a);
-        else
-            pos = item(pos, Ctx::CallArgs);
+        const bool plain = plain_arg(pos, a);
+        const uint32_t next = plain ? skip_blanks(a.end) : n;
+        pos = plain && (next >= n || upper(s[next]) == 'P') ? plain_arg_word(pos, a) : item(pos, Ctx::CallArgs);
         if (pos == kFail) return kFail;
         end = pos;
     }

@@ -163,10 +163,7 @@ private:
             complete_ = complete_ > pos_ ? complete_ - pos_ : 0;
             pos_ = 0;
         }
-        size_t chunk = std::max<size_t>(options_.chunk_size, 16);
-        // No larger than the source when its size is known (one subprogram of a file).
-        if (const std::optional<uint64_t> size = src_.size())
-            chunk = static_cast<size_t>(std::min<uint64_t>(chunk, std::max<uint64_t>(*size + 1, 256)));
+        const size_t chunk = line_buffer_size(src_, std::max<size_t>(options_.chunk_size, 16));
         if (buf_.size() < chunk) buf_.resize(chunk);
         if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);  // a line longer than the buffer
         const int64_t r = src_.read(base_ + end_, buf_.data() + end_, buf_.size() - end_);

@@ -88,9 +88,10 @@ TEST_CASE("fast front end: common blocks take the hand-written path") {
     for (const char* line :
          {"G01X10.5Y-3", "N10 G0 G90 X0 Y0 (START)", "/N20 X-.75 F.2 Z3.", "O1234 (PART)", "VC1=5", "PX=PX",
           "X=VC1+2*[VC2-1] Y=-VC3", "CALL OKYOY PX=-50. PY=-30. PR=2. PZ=-5. Q5", "MODIN OG87C PR=-45.", "MODOUT",
-          "G56 Z50. HA", "RTS",
+          "G56 Z50. HA", "RTS", "NCYL G81 Z-3.5 R3. F150", "G85 N0207 D7", "VTOFX[16]=VTOFX[6]+.5", "%",
+          // Call arguments: `Pname=number` read straight into its word, and its near misses.
           "CALL OZAGR PX=12.5 PY=-3 PZ = +.5 pfa=1000 PQ= 0.", "CALL O100 PX=1 Q2 PY=2 PZ=VC1+1 PW=3 (NOTE) PV=4",
-          "CALL O100 PX=-5 M54", "CALL O100 PX=- 5 PY=1.5", "CALL O100 PX=1234567890123456 PY=1", "NCYL G81 Z-3.5 R3. F150", "G85 N0207 D7", "VTOFX[16]=VTOFX[6]+.5", "%",
+          "CALL O100 PX=-5 M54", "CALL O100 PX=- 5 PY=1.5", "CALL O100 PX=1234567890123456 PY=1",
           "(COMMENT ONLY)", "", "  \t", "n10 g1 x1 y2 z3 f100", "$HDR.MIN%"}) {
         const std::string text(line);
         CHECK_MESSAGE(p.parse_fast_only(LineRef{text, "\n", 1, 0}, b), line);
