@@ -175,6 +175,92 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
     return n;
 }
 
+// GOTO Nname, IF [cond] [GOTO] Nname, WHILE [cond] DO n, DO n, END [n],
+// with the keyword at [p, e). A comment inside the statement, a loop number
+// that is not plain digits, or a target the scanner might lex otherwise
+// sends the line to the tree-sitter front end.
+uint32_t FastLineParser::Impl::control_statement(const Name& name, uint32_t p, uint32_t e) {
+    const std::string_view kw = name.view();
+    StmtKind kind;
+    if (kw == "GOTO") kind = StmtKind::Goto;
+    else if (kw == "IF") kind = StmtKind::If;
+    else if (kw == "WHILE") kind = StmtKind::While;
+    else if (kw == "DO") kind = StmtKind::Do;
+    else if (kw == "END") kind = StmtKind::End;
+    else return kFail;  // EMPTY, NOT, EQ ... where an item belongs
+    const size_t index = b->statements.size();
+    keyword_statement(kind, p, e);
+    uint32_t q = e;
+    ExprId cond = kNoExpr;
+    if (kind == StmtKind::If || kind == StmtKind::While) {
+        q = skip_blanks(q);
+        if (q >= n || s[q] != '[') return kFail;
+        q = expr(q + 1, 0);
+        if (q == kFail) return kFail;
+        cond = last_expr();
+        q = skip_blanks(q);
+        if (q >= n || s[q] != ']') return kFail;
+        ++q;
+    }
+    uint32_t end = e;
+    int loop = -1;
+    if (kind == StmtKind::If || kind == StmtKind::Goto) {
+        q = skip_blanks(q);
+        if (kind == StmtKind::If && q + 4 <= n && upper(s[q]) == 'G' && upper(s[q + 1]) == 'O' &&
+            upper(s[q + 2]) == 'T' && upper(s[q + 3]) == 'O' && (q + 4 == n || is_blank(s[q + 4])))
+            q = skip_blanks(q + 4);
+        end = jump_target(q, b->statements[index]);
+    } else if (kind == StmtKind::While) {
+        q = skip_blanks(q);
+        if (q + 2 > n || upper(s[q]) != 'D' || upper(s[q + 1]) != 'O' || (q + 2 < n && !is_blank(s[q + 2])))
+            return kFail;
+        end = loop_number(skip_blanks(q + 2), loop);
+    } else if (kind == StmtKind::Do) {
+        end = loop_number(skip_blanks(q), loop);
+    } else {
+        // END takes a number that follows it; otherwise it stands alone.
+        const uint32_t r = skip_blanks(q);
+        if (r < n && is_digit(s[r])) end = loop_number(r, loop);
+    }
+    if (end == kFail) return kFail;
+    Statement& st = b->statements[index];
+    st.range = abs(p, end);
+    st.expr = cond;
+    st.loop = loop;
+    return end;
+}
+
+// The sequence name a jump goes to, at p: `N` and digits, or `N` and a name
+// that no `=` or `[` follows; sets the statement's name. Returns its end.
+uint32_t FastLineParser::Impl::jump_target(uint32_t p, Statement& st) const {
+    if (p + 1 >= n || upper(s[p]) != 'N' || !is_alnum(s[p + 1])) return kFail;
+    uint32_t e = p + 1;
+    if (is_digit(s[p + 1])) {
+        while (e < n && is_digit(s[e])) ++e;
+        if (e < n && (is_alnum(s[e]) || s[e] == '.')) return kFail;  // `N10A`: two tokens to the scanner
+    } else {
+        e = alnum_end(p);
+        Name name;
+        if (!read_name(p, e, name) || control_keyword(name.text, name.len) != Keyword::None) return kFail;
+        const uint32_t after = skip_blanks(e);
+        if (after < n && (s[after] == '=' || s[after] == '[')) return kFail;
+    }
+    st.name.resize(e - p);
+    for (uint32_t i = p; i < e; ++i) st.name[i - p] = upper(s[i]);
+    st.name_range = abs(p, e);
+    return e;
+}
+
+// A loop number at p: plain digits (at most nine), nothing glued after them.
+uint32_t FastLineParser::Impl::loop_number(uint32_t p, int& loop) const {
+    uint32_t e = p;
+    int v = 0;
+    while (e < n && is_digit(s[e]) && e - p < 9) v = v * 10 + (s[e++] - '0');
+    if (e == p || (e < n && (is_alnum(s[e]) || s[e] == '.'))) return kFail;
+    loop = v;
+    return e;
+}
+
 // `Pname=number` at p: a name of P, a letter, then letters or digits (no
 // keyword starts with P, and `=` follows it), then an optional sign and a
 // decimal literal of at most 15 digits, followed by a blank or the end.
@@ -267,6 +353,7 @@ uint32_t FastLineParser::Impl::named_item(uint32_t p, Ctx ctx) {
             case Keyword::Rts: return keyword_statement(StmtKind::Rts, p, e);
             case Keyword::Ncyl: return keyword_statement(StmtKind::Ncyl, p, e);
             case Keyword::Noex: return keyword_statement(StmtKind::Noex, p, e);
+            case Keyword::Control: return control_statement(name, p, e);
             default: return kFail;
         }
     }

@@ -1,9 +1,10 @@
 // The expressions of the fast front end (frontend_fast_parser.h): operands,
-// indexed variables and brackets, and precedence climbing over + - * /. The
-// nodes enter the block's arena in the order the tree-sitter converter pushes
-// them (children first); wherever the outcome would depend on something this
-// parser does not model, it gives up (kFail) and the line goes to the
-// tree-sitter front end.
+// indexed variables and brackets, and precedence climbing over + - * / and
+// the keyword operators (EQ ... LE, AND, OR, EOR). The nodes enter the
+// block's arena in the order the tree-sitter converter pushes them (children
+// first); wherever the outcome would depend on something this parser does
+// not model, it gives up (kFail) and the line goes to the tree-sitter front
+// end.
 #include "syntax/frontend_fast_parser.h"
 
 namespace osplint {
@@ -153,30 +154,51 @@ bool FastLineParser::Impl::may_end_here(uint32_t p) const {
     return true;
 }
 
-// Precedence climbing over + - * /; the nodes enter the arena in the order
+// Precedence climbing over + - * / and the keyword operators; the nodes enter the arena in the order
 // the tree-sitter converter pushes them (children first).
 uint32_t FastLineParser::Impl::expr(uint32_t p, int min_prec) {
     p = unary(p);
     if (p == kFail) return kFail;
     while (true) {
         const uint32_t q = skip_blanks(p);
-        const int prec = q < n ? precedence(s[q]) : 0;
+        int prec = q < n ? precedence(s[q]) : 0;
+        uint32_t operand = q + 1;  // where the right operand starts
+        Name keyword;              // a keyword operator (EQ, AND ...), when len > 0
+        if (!prec && q > p && q < n && may_be_operator(s[q])) {
+            // Only between blanks (`VC1 LT 10`): glued to a bracket or a
+            // name, the scanner's reading is not this parser's to guess.
+            const uint32_t e = alnum_end(q);
+            if (e < n && is_blank(s[e]) && read_name(q, e, keyword) && (prec = keyword_precedence(keyword)) != 0)
+                operand = e;
+            else
+                keyword.len = 0;
+        }
         if (!prec) {
             if (!may_end_here(q)) return kFail;
             return p;
         }
         if (prec < min_prec) return p;
         const ExprId left = last_expr();
-        const uint32_t r = expr(q + 1, prec + 1);
+        const uint32_t r = expr(operand, prec + 1);
         if (r == kFail) return kFail;
         const ExprId right = last_expr();
         const uint32_t begin = b->exprs[static_cast<size_t>(left)].range.begin;
         const uint32_t end = b->exprs[static_cast<size_t>(right)].range.end;
-        ExprNode& e = new_expr(ExprKind::Binary, {begin, end}, s[q]);
+        ExprNode& e = new_expr(ExprKind::Binary, {begin, end}, keyword.len ? '\0' : s[q]);
+        if (keyword.len) set_text(e.op, keyword.text, keyword.len);
         e.children.push_back(left);
         e.children.push_back(right);
         p = r;
     }
+}
+
+// The grammar's precedence of a keyword operator (0: none).
+int FastLineParser::Impl::keyword_precedence(const Name& name) {
+    if (!operator_keyword(name.text, name.len)) return 0;
+    const std::string_view k = name.view();
+    if (k == "AND") return 2;
+    if (k == "OR" || k == "EOR") return 1;
+    return 3;  // EQ NE GT GE LT LE
 }
 
 }  // namespace osplint

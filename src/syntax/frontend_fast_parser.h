@@ -163,6 +163,10 @@ struct FastLineParser::Impl {
     uint32_t label_word(uint32_t p, uint32_t e);
     uint32_t keyword_statement(StmtKind kind, uint32_t p, uint32_t e);
     uint32_t call_statement(StmtKind kind, uint32_t p, uint32_t e);
+    uint32_t control_statement(const Name& name, uint32_t p, uint32_t e);
+    uint32_t jump_target(uint32_t p, Statement& st) const;
+    uint32_t loop_number(uint32_t p, int& loop) const;
+    static int keyword_precedence(const Name& name);
     static bool is_glued_word(const char* s, uint32_t p, uint32_t n);
     OSPLINT_HOT uint32_t glued_word(uint32_t p);
     uint32_t named_item(uint32_t p, Ctx ctx);

@@ -81,7 +81,10 @@ inline std::vector<std::string> grammar_inputs() {
 // ends of every kind, non-ASCII comments.
 class Generator {
 public:
-    explicit Generator(uint32_t seed) : rng_(seed) {}
+    // `conditions`: jumps and loops in every form the front ends read (keyword
+    // operators, IF ... GOTO, DO/END with and without a blank); otherwise
+    // the few forms the engine's differential tests were tuned with.
+    explicit Generator(uint32_t seed, bool conditions = false) : rng_(seed), conditions_(conditions) {}
 
     std::string program() {
         std::string out;
@@ -104,6 +107,7 @@ public:
 
 private:
     std::mt19937 rng_;
+    bool conditions_ = false;
     std::string eol_ = "\n";
 
     uint32_t range(uint32_t lo, uint32_t hi) { return lo + rng_() % (hi - lo + 1); }
@@ -149,9 +153,17 @@ private:
             case 11: b += "VC" + num(1, 200) + "=" + pick({coord(), "VC1+1", "[VC2-3]*2", "-VC3/4", "PX"}); break;
             case 12: b += "X=VC1+" + coord() + " Y=-VC2"; break;
             case 13: b += "GOTO N" + num(1, 50); break;
-            case 14: b += "IF [VC1 LT " + num(1, 9) + "] N" + num(1, 50); break;
-            case 15: b += "WHILE [VC1 LT 3] DO1"; break;
-            case 16: b += "END1"; break;
+            case 14:
+                if (!conditions_) {
+                    b += "IF [VC1 LT " + num(1, 9) + "] N" + num(1, 50);
+                    break;
+                }
+                b += "IF [" + pick({"VC1 LT " + num(1, 9), "VC2 GE VC1*2 AND VC3 NE 0", "[VC1 EQ 1] OR [VC2 GT -1]",
+                                   "VC1 EOR VC2", "-VC4 LE 2 OR VC5 EQ VC6 AND VC7 GT 1"}) +
+                     "] " + pick({"", "GOTO "}) + "N" + num(1, 50);
+                break;
+            case 15: b += "WHILE [VC1 LT 3] " + (conditions_ ? pick({"DO1", "DO 1", "DO 2"}) : "DO1"); break;
+            case 16: b += conditions_ ? pick({"END1", "END 1", "END 2", "DO 2", "END"}) : "END1"; break;
             case 17: b += "G85 N" + num(1, 50) + " D7"; break;
             case 18: b += comment(); break;
             case 19: b += pick({"G1 X10..5", "S15O0 M3", "X", "G1 X5 @", "CALL", "PX=", "#", "G0 X1 (C"}); break;
@@ -169,7 +181,7 @@ private:
 inline std::string mutate(std::string text, std::mt19937& rng) {
     static const char* const kTokens[] = {"G", "X", "N", "O", "V", "(", ")", "[", "]", "=", "-", "+", ".", "/",
                                           "*", ",", " ", "\t", "\n", "\r", "\r\n", "%", "$", "'", "#", "0", "5",
-                                          "CALL ", "GOTO ", "IF ", "END", "DO", "RTS", "NCYL", "VC1", "PX", "EQ",
+                                          "CALL ", "GOTO ", "IF ", "END", "DO", "RTS", "NCYL", "VC1", "PX", "EQ", " LT ", " AND ",
                                           "\xE3\x81\x82", "\x82\xA0", "\x01", "M30", "O1", "HA", "EMPTY", "SIN["};
     const int edits = 1 + static_cast<int>(rng() % 4);
     for (int k = 0; k < edits; ++k) {
