@@ -37,7 +37,10 @@ json markdown(std::string text) { return json{{"kind", "markdown"}, {"value", st
 
 json to_lsp_diagnostic(const Diagnostic& d, const std::string& uri, Encoding enc, int64_t version) {
     auto range = [&](const SourceRange& r) {
-        return json{{"start", to_lsp_position(r.start, enc)}, {"end", to_lsp_position(r.end, enc)}};
+        json out(json::value_t::object);
+        out["start"] = to_lsp_position(r.start, enc);
+        out["end"] = to_lsp_position(r.end, enc);
+        return out;
     };
     json out;
     out["range"] = range(d.range);

@@ -56,8 +56,13 @@ uint32_t offset_in(std::string_view text, uint32_t line, uint32_t character, Enc
 
 }  // namespace
 
+// Built member by member: an initializer list copies every element it is
+// given, and a document's diagnostics hold thousands of positions.
 json to_lsp_position(const Position& p, Encoding enc) {
-    return json{{"line", p.line > 0 ? p.line - 1 : 0}, {"character", enc == Encoding::Utf8 ? p.byte_col : p.utf16_col}};
+    json out(json::value_t::object);
+    out["line"] = p.line > 0 ? p.line - 1 : 0;
+    out["character"] = enc == Encoding::Utf8 ? p.byte_col : p.utf16_col;
+    return out;
 }
 
 json to_lsp_position(const SourceText& text, uint32_t offset, Encoding enc) {
@@ -65,8 +70,10 @@ json to_lsp_position(const SourceText& text, uint32_t offset, Encoding enc) {
 }
 
 json to_lsp_range(const SourceText& text, ByteRange range, Encoding enc) {
-    return json{{"start", to_lsp_position(text, range.begin, enc)},
-                {"end", to_lsp_position(text, std::max(range.begin, range.end), enc)}};
+    json out(json::value_t::object);
+    out["start"] = to_lsp_position(text, range.begin, enc);
+    out["end"] = to_lsp_position(text, std::max(range.begin, range.end), enc);
+    return out;
 }
 
 uint32_t from_lsp_position(const SourceText& text, const json& position, Encoding enc) {

@@ -6,8 +6,9 @@
 // post-processors write by the million — and produces exactly the Block the
 // tree-sitter front end produces for them (every field, every byte range; see
 // tests/unit/test_fast_frontend.cpp). Any line it does not fully recognise
-// (keywords other than CALL/MODIN/RTS/MODOUT/NCYL/NOEX, functions, strings,
-// comparisons, syntax errors, non-ASCII text outside comments, ...) is parsed by
+// (keywords other than CALL/MODIN/RTS/MODOUT/NCYL/NOEX/GOTO/IF/WHILE/DO/END,
+// functions, strings, keyword operators not between blanks, syntax errors,
+// non-ASCII text outside comments, ...) is parsed by
 // the tree-sitter front end on its own, with its offsets shifted to the line's
 // place in the file. The grammar is line oriented, so a line without syntax
 // errors parses the same alone and in its file; a line with one is parsed on
