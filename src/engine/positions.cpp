@@ -1,6 +1,7 @@
 #include "engine/positions.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "support/text.h"
 #include "syntax/source.h"
@@ -144,10 +145,10 @@ std::string Positions::line_text(uint32_t n, size_t max) {
 
 // Reads lines from the last checkpoint before the target until `stop` accepts one.
 template <class StartOk, class Stop>
-const LineData& Positions::scan(StartOk&& start_ok, Stop&& stop) {
+const LineData& Positions::scan(StartOk&& start_ok, Stop&& stop, std::optional<Checkpoint> at) {
     // The checkpoints grow in offset and line: the last one `start_ok` accepts.
     auto it = std::partition_point(checkpoints_.begin(), checkpoints_.end(), start_ok);
-    const Checkpoint cp = it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
+    const Checkpoint cp = at ? *at : it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
     // A checkpoint is at most 1024 lines back: a small buffer (the stream grows it for a long line).
     LineStream ls(*src_, size_t(16) << 10);
     ls.seek(cp.offset, cp.line);
@@ -177,6 +178,62 @@ const LineData& Positions::find_offset(uint32_t offset) {
         (offset - cache_.start < cache_.text.size() + cache_.terminator.size() ||
          (cache_.terminator.empty() && offset - cache_.start == cache_.text.size())))
         return cache_;
+    // The line ends between the last checkpoint (or the line found last, when
+    // it is nearer) and the offset are counted in the bytes, a block at a
+    // time; only the line that holds the offset is read as a line.
+    auto it = std::partition_point(checkpoints_.begin(), checkpoints_.end(),
+                                   [&](const Checkpoint& c) { return c.offset <= offset; });
+    Checkpoint from = it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
+    if (cache_.ok && cache_.start <= offset && cache_.start > from.offset) from = {cache_.start, cache_.line};
+    if (from.offset <= offset) {
+        if (count_buf_.empty()) count_buf_.resize(size_t(16) << 10);
+        uint64_t pos = from.offset;
+        uint64_t start = from.offset;
+        uint32_t line = from.line;
+        bool read_ok = true;
+        // A CR is a line end unless an LF follows it: the byte at `offset` is
+        // read too, and a CR whose next byte was not read waits for the next block.
+        while (pos < offset) {
+            const size_t want = static_cast<size_t>(std::min<uint64_t>(count_buf_.size(), offset + 1 - pos));
+            const int64_t got = src_->read(pos, count_buf_.data(), want);
+            if (got <= 0) {
+                read_ok = false;
+                break;
+            }
+            const char* const b = count_buf_.data();
+            size_t count = static_cast<size_t>(std::min<uint64_t>(static_cast<uint64_t>(got), offset - pos));
+            if (count == static_cast<size_t>(got) && b[count - 1] == '\r') {
+                if (count == 1) {
+                    read_ok = false;
+                    break;
+                }
+                --count;
+            }
+            if (std::memchr(b, '\r', count)) {
+                for (size_t i = 0; i < count; ++i)
+                    if (b[i] == '\n' || (b[i] == '\r' && b[i + 1] != '\n')) {
+                        ++line;
+                        start = pos + i + 1;
+                    }
+            } else {
+                for (const char* q = b; (q = static_cast<const char*>(std::memchr(q, '\n', count - (q - b)))); ++q) {
+                    ++line;
+                    start = pos + static_cast<uint64_t>(q - b) + 1;
+                }
+            }
+            pos += count;
+        }
+        if (read_ok) {
+            const uint64_t target_start = start;
+            const uint32_t target_line = line;
+            return scan([&](const Checkpoint& c) { return c.offset <= target_start; },
+                        [&](const LineRef& l) {
+                            const uint64_t end = uint64_t(l.start) + l.text.size() + l.terminator.size();
+                            return offset < end || (l.terminator.empty() && offset == end);
+                        },
+                        Checkpoint{target_start, target_line});
+        }
+    }
     return scan([&](const Checkpoint& c) { return c.offset <= offset; },
                 [&](const LineRef& l) {
                     const uint64_t end = uint64_t(l.start) + l.text.size() + l.terminator.size();

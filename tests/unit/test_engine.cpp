@@ -27,6 +27,7 @@
 #include "api/config.h"
 #include "support/errors.h"
 #include "support/io.h"
+#include "engine/positions.h"
 #include "engine/record.h"
 #include "engine/summaries.h"
 #include "rules/registry.h"
@@ -776,3 +777,44 @@ TEST_CASE("may findings: a mode some paths bring, at the severity of [analysis] 
                             Config{}))
               .empty());
 }
+
+TEST_CASE("positions: an offset far from the line in hand is found again on any line ending") {
+    // Lines of every ending and of lengths that put a CR at the end of a
+    // block of the count (16 KiB) somewhere, with text outside ASCII.
+    std::mt19937 rng(3141);
+    for (const char* eol : {"\n", "\r\n", "\r", "mixed"}) {
+        std::string text;
+        while (text.size() < 150000) {
+            text.append(rng() % 40, 'X');
+            if (rng() % 7 == 0) text += "\xE5\x88\x87";
+            const std::string mixed[] = {"\n", "\r\n", "\r"};
+            text += std::string(eol) == "mixed" ? mixed[rng() % 3] : std::string(eol);
+        }
+        if (rng() % 2) text += "G1 X5";  // no final line end
+        const SourceText reference{std::string(text)};
+        for (const bool noted : {false, true}) {
+            MemorySource src(text);
+            Positions positions(src);
+            positions.set_size(text.size());
+            if (noted) {  // the line checkpoints a walk leaves
+                LineStream ls(src, 4096);
+                LineRef l;
+                while (ls.next(l)) positions.note_line(l);
+            }
+            std::vector<uint32_t> offsets = {0, static_cast<uint32_t>(text.size())};
+            for (uint32_t o = 16384 - 3; o < text.size(); o += 16384)
+                for (uint32_t d = 0; d < 6; ++d) offsets.push_back(o + d);
+            for (int k = 0; k < 400; ++k) offsets.push_back(static_cast<uint32_t>(rng() % (text.size() + 1)));
+            for (const uint32_t o : offsets) {
+                if (o > text.size()) continue;
+                const Position want = reference.position(o);
+                const Position got = positions.position(o);
+                CHECK_MESSAGE((got.line == want.line && got.byte_col == want.byte_col && got.cp_col == want.cp_col &&
+                               got.utf16_col == want.utf16_col),
+                              eol << " offset " << o << ": line " << got.line << " col " << got.byte_col
+                                  << ", expected line " << want.line << " col " << want.byte_col);
+            }
+        }
+    }
+}
+
