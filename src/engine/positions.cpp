@@ -145,10 +145,10 @@ std::string Positions::line_text(uint32_t n, size_t max) {
 
 // Reads lines from the last checkpoint before the target until `stop` accepts one.
 template <class StartOk, class Stop>
-const LineData& Positions::scan(StartOk&& start_ok, Stop&& stop, std::optional<Checkpoint> at) {
+const LineData& Positions::scan(StartOk&& start_ok, Stop&& stop) {
     // The checkpoints grow in offset and line: the last one `start_ok` accepts.
     auto it = std::partition_point(checkpoints_.begin(), checkpoints_.end(), start_ok);
-    const Checkpoint cp = at ? *at : it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
+    const Checkpoint cp = it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
     // A checkpoint is at most 1024 lines back: a small buffer (the stream grows it for a long line).
     LineStream ls(*src_, size_t(16) << 10);
     ls.seek(cp.offset, cp.line);
@@ -223,22 +223,48 @@ const LineData& Positions::find_offset(uint32_t offset) {
             }
             pos += count;
         }
-        if (read_ok) {
-            const uint64_t target_start = start;
-            const uint32_t target_line = line;
-            return scan([&](const Checkpoint& c) { return c.offset <= target_start; },
-                        [&](const LineRef& l) {
-                            const uint64_t end = uint64_t(l.start) + l.text.size() + l.terminator.size();
-                            return offset < end || (l.terminator.empty() && offset == end);
-                        },
-                        Checkpoint{target_start, target_line});
-        }
+        if (read_ok && read_line_at(start, line)) return cache_;
     }
     return scan([&](const Checkpoint& c) { return c.offset <= offset; },
                 [&](const LineRef& l) {
                     const uint64_t end = uint64_t(l.start) + l.text.size() + l.terminator.size();
                     return offset < end || (l.terminator.empty() && offset == end);
                 });
+}
+
+// The line that starts at `start` (line `line`) into cache_: false when a read fails.
+bool Positions::read_line_at(uint64_t start, uint32_t line) {
+    cache_ = LineData{};
+    cache_.line = line;
+    uint64_t pos = start;
+    while (true) {
+        const int64_t got = src_->read(pos, count_buf_.data(), count_buf_.size());
+        if (got < 0) return false;
+        if (got == 0) break;  // the end of the input
+        const char* const b = count_buf_.data();
+        const size_t n = static_cast<size_t>(got);
+        const char* e = static_cast<const char*>(std::memchr(b, '\n', n));
+        const char* cr = static_cast<const char*>(std::memchr(b, '\r', e ? static_cast<size_t>(e - b) : n));
+        if (cr) e = cr;
+        cache_.ok = true;
+        if (!e) {
+            cache_.text.append(b, n);
+            pos += n;
+            continue;
+        }
+        cache_.text.append(b, static_cast<size_t>(e - b));
+        if (*e == '\n') {
+            cache_.terminator = "\n";
+        } else {
+            char next = 0;
+            if (e + 1 < b + n) next = e[1];
+            else if (src_->read(pos + n, &next, 1) < 0) return false;
+            cache_.terminator = next == '\n' ? "\r\n" : "\r";
+        }
+        break;
+    }
+    if (cache_.ok) cache_.start = static_cast<uint32_t>(start);
+    return true;
 }
 
 const LineData& Positions::find_line(uint32_t n) {

@@ -114,10 +114,9 @@ private:
         uint64_t offset;
         uint32_t line;
     };
-    // Reads lines from `at`, or else from the last checkpoint `start_ok`
-    // accepts, until `stop` accepts one.
     template <class StartOk, class Stop>
-    const LineData& scan(StartOk&& start_ok, Stop&& stop, std::optional<Checkpoint> at = std::nullopt);
+    const LineData& scan(StartOk&& start_ok, Stop&& stop);
+    bool read_line_at(uint64_t start, uint32_t line);
     const LineData& find_offset(uint32_t offset);
     const LineData& find_line(uint32_t n);
 
@@ -129,7 +128,7 @@ private:
     std::vector<Checkpoint> checkpoints_;
     uint32_t last_line_ = 0;
     LineData cache_;
-    std::string count_buf_;  // find_offset's block of bytes
+    std::string count_buf_;  // find_offset's block of bytes (read_line_at's too)
 };
 
 }  // namespace osplint

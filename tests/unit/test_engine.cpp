@@ -813,6 +813,9 @@ TEST_CASE("positions: an offset far from the line in hand is found again on any 
                                got.utf16_col == want.utf16_col),
                               eol << " offset " << o << ": line " << got.line << " col " << got.byte_col
                                   << ", expected line " << want.line << " col " << want.byte_col);
+                // The line read again for the finding's text.
+                if (want.line <= reference.line_count())
+                    CHECK(positions.line_text(want.line, text.size()) == reference.line_text(want.line));
             }
         }
     }
