@@ -2,6 +2,7 @@
 #include "engine/engine.h"
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <optional>
@@ -117,10 +118,18 @@ int64_t line_ends(std::string_view s) {
 
 TextChange text_change(std::string_view before, std::string_view after) {
     const size_t shorter = std::min(before.size(), after.size());
+    // Whole blocks compared first (memcmp), then the bytes of the block that differs.
+    constexpr size_t kBlock = 4096;
     size_t prefix = 0;
+    while (prefix + kBlock <= shorter && std::memcmp(before.data() + prefix, after.data() + prefix, kBlock) == 0)
+        prefix += kBlock;
     while (prefix < shorter && before[prefix] == after[prefix]) ++prefix;
     if (prefix > 0 && before[prefix - 1] == '\r') --prefix;  // a CR whose LF may have changed
     size_t suffix = 0;
+    while (suffix + kBlock <= shorter - prefix &&
+           std::memcmp(before.data() + before.size() - suffix - kBlock, after.data() + after.size() - suffix - kBlock,
+                       kBlock) == 0)
+        suffix += kBlock;
     while (suffix < shorter - prefix && before[before.size() - 1 - suffix] == after[after.size() - 1 - suffix]) ++suffix;
     // Never an LF without the CR before it, nor the CR of the prefix.
     while (suffix > 0 && before[before.size() - suffix] == '\n' &&

@@ -821,3 +821,55 @@ TEST_CASE("positions: an offset far from the line in hand is found again on any 
     }
 }
 
+
+TEST_CASE("text_change: what changed between two texts, block compare or not") {
+    // The byte-by-byte definition, CR LF rules included.
+    auto naive = [](std::string_view before, std::string_view after) {
+        const size_t shorter = std::min(before.size(), after.size());
+        size_t prefix = 0;
+        while (prefix < shorter && before[prefix] == after[prefix]) ++prefix;
+        if (prefix > 0 && before[prefix - 1] == '\r') --prefix;
+        size_t suffix = 0;
+        while (suffix < shorter - prefix && before[before.size() - 1 - suffix] == after[after.size() - 1 - suffix])
+            ++suffix;
+        while (suffix > 0 && before[before.size() - suffix] == '\n' &&
+               ((before.size() - suffix > prefix && before[before.size() - suffix - 1] == '\r') ||
+                (after.size() - suffix > prefix && after[after.size() - suffix - 1] == '\r')))
+            --suffix;
+        return std::pair{prefix, suffix};
+    };
+    std::mt19937 rng(2718);
+    for (int k = 0; k < 300; ++k) {
+        std::string before;
+        const size_t size = rng() % 20000;
+        while (before.size() < size) before += "XYZ\r\n"[rng() % 5];
+        std::string after = before;
+        const int edits = static_cast<int>(rng() % 3);
+        for (int e = 0; e < edits; ++e) {
+            const size_t at = after.empty() ? 0 : rng() % after.size();
+            switch (rng() % 3) {
+                case 0: after.insert(at, 1, "X\r\n"[rng() % 3]); break;
+                case 1: if (!after.empty()) after.erase(at, 1 + rng() % 5000); break;
+                default: if (!after.empty()) after[at] = "Y\n\r"[rng() % 3]; break;
+            }
+        }
+        const TextChange c = text_change(before, after);
+        const auto [prefix, suffix] = naive(before, after);
+        CHECK(c.prefix == prefix);
+        CHECK(c.suffix == suffix);
+        CHECK(c.bytes == static_cast<int64_t>(after.size()) - static_cast<int64_t>(before.size()));
+    }
+    // One byte changed at every place around the block boundaries, from either end.
+    std::string before;
+    while (before.size() < 3 * 4096 + 7) before += "G1 X1.5\r\n"[before.size() % 9];
+    for (size_t block = 0; block <= 3; ++block)
+        for (size_t d = 0; d < 6; ++d)
+            for (const size_t at : {block * 4096 + d - std::min<size_t>(d, 3), before.size() - 1 - (block * 4096 + d)}) {
+                if (at >= before.size()) continue;
+                std::string after = before;
+                after[at] = '#';
+                const TextChange c = text_change(before, after);
+                const auto [prefix, suffix] = naive(before, after);
+                CHECK_MESSAGE((c.prefix == prefix && c.suffix == suffix), "at " << at);
+            }
+}
