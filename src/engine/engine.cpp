@@ -64,6 +64,28 @@ struct HeldLine {
     uint32_t terminator_size = 0;
 };
 
+// When a sweep last entered a join, and when what flows into it last changed.
+struct JoinStamps {
+    uint64_t entered = 0;
+    uint64_t changed = 0;
+};
+
+// What the first sweep over a loop holds before one of its blocks, or when it ends.
+struct SweepState {
+    MaybeState flowing;
+    std::map<uint32_t, MaybeState> join;
+    std::unordered_map<std::string, MaybeState> pending_name;
+    std::map<uint32_t, MaybeState> pending_offset;
+    std::unordered_map<std::string, std::vector<uint32_t>> defs;
+    MaybeState final_state;
+    std::map<uint32_t, MaybeState> probes;
+    std::map<uint32_t, JoinStamps> join_stamps;
+    uint64_t stamp = 0;
+    uint32_t extent = 0;
+    uint32_t index = 0;  // of the block in the loop
+    bool loop_changed = false;
+};
+
 }  // namespace
 
 // What a checkpoint holds that no later edit changes.
@@ -98,11 +120,33 @@ struct FrozenWalk {
     std::optional<OccurrenceCounter> occurrences;
 };
 
+// A checkpoint inside a loop read again from the input whose walk with the
+// rules followed its first sweep: the loop, the first sweep before the block,
+// what that sweep left (the states the walk with the rules started from), the
+// joins as that walk reached the block, and what it had brought to the states
+// further on. An edit after the block is analysed from there when the first
+// sweep, carried on from the block over the new text, leaves the same states
+// as before wherever the walk up to the block read them (Walk::resume_loop).
+struct LoopCheckpoint {
+    uint32_t head = 0;
+    uint32_t head_line = 0;
+    MaybeState entry;
+    std::shared_ptr<const SweepState> first;
+    std::shared_ptr<const SweepState> after_first;
+    std::map<uint32_t, MaybeState> join;
+    // What that walk brought, before the block, to the sequence names jumped
+    // to, to the blocks loop edges reach, and to the end of the program.
+    std::unordered_map<std::string, MaybeState> brought_name;
+    std::map<uint32_t, MaybeState> brought_offset;
+    MaybeState brought_final;
+};
+
 struct WalkCheckpoint {
     std::shared_ptr<const FileOutline> outline;  // of the text it is valid for
     // States left by loop edges for blocks further on, by their offset in that text.
     std::map<uint32_t, MaybeState> pending_offset;
     std::shared_ptr<const FrozenWalk> frozen;
+    std::shared_ptr<const LoopCheckpoint> loop;  // set inside a loop
 };
 
 namespace {
@@ -187,7 +231,20 @@ private:
     void walk_blocks();
     void end_program_walk();
     bool resume_from_checkpoints();
+    void restore(const WalkCheckpoint& c);
+    std::shared_ptr<FrozenWalk> freeze();
     void take_checkpoint();
+    // --- checkpoints inside a loop (LoopCheckpoint)
+    SweepState sweep_state(uint32_t extent, uint32_t index) const;
+    void restore_sweep(const SweepState& s);
+    void mark_loop(uint32_t extent, uint32_t index);
+    void take_loop_checkpoint();
+    bool resume_loop();
+    bool fall_back_before(uint32_t head);
+    void reset_to_start();
+    void end_loop();
+    template <class Hold>
+    void first_sweep(uint32_t index, uint32_t& extent, Hold&& hold);
     bool loop_head(const Block& b, uint32_t offset, uint32_t& extent) const;
     void walk_loop(const Block& head, const LineRef& head_line);
     // A sweep returns false when it stopped early (it converged, or the walk stops).
@@ -241,6 +298,33 @@ private:
     // --- checkpoints
     std::shared_ptr<const FileOutline> shared_outline_;
     uint64_t next_checkpoint_ = 0;
+    std::vector<bool> initial_used_;  // the suppression directives' use before the walk
+    // Inside a loop: where its first sweep took its states (one every
+    // checkpoint_every bytes), the next of them the walk with the rules
+    // reaches, the checkpoints that walk made (kept when it stands), what
+    // the first sweep left, and the loop's entry.
+    struct LoopMark {
+        uint32_t offset = 0;
+        std::shared_ptr<const SweepState> first;
+    };
+    std::vector<LoopMark> loop_marks_;
+    size_t loop_mark_next_ = 0;
+    uint64_t next_loop_mark_ = 0;
+    std::vector<Checkpoint> loop_checkpoints_;
+    std::shared_ptr<const SweepState> after_first_;
+    MaybeState loop_entry_;
+    uint32_t loop_head_line_ = 0;
+    Checkpoint resume_in_loop_;  // the checkpoint inside a loop the walk resumes at
+    // While the walk with the rules after a first sweep may take checkpoints:
+    // what it brings to the states further on (LoopCheckpoint::brought_*).
+    bool bringing_ = false;
+    std::unordered_map<std::string, MaybeState> brought_name_;
+    std::map<uint32_t, MaybeState> brought_offset_;
+    MaybeState brought_final_;
+    void bring_final(const ModalState& s) {
+        final_state_.merge(s);
+        if (bringing_) brought_final_.merge(s);
+    }
     uint64_t delivered_diagnostics_ = 0;
     uint64_t delivered_suppressed_ = 0;
     uint32_t delivered_reach_ = 0;
@@ -275,10 +359,6 @@ private:
     // A sweep that reaches a probe with the state the previous sweep had
     // there, while no join from there on changed since the previous sweep
     // entered it, would repeat the rest of that sweep: it stops there.
-    struct JoinStamps {
-        uint64_t entered = 0;  // when a sweep last entered it
-        uint64_t changed = 0;  // when what flows into it last changed
-    };
     static constexpr uint32_t kProbeBlocks = 2048;
     static constexpr uint64_t kHeldBytesPerBlock = 64;  // a generous line length, to guess a loop's blocks from its bytes
     std::map<uint32_t, MaybeState> probes_;  // the state flowing into a probe block, in the last sweep that passed it
@@ -360,6 +440,7 @@ std::string Walk::run() {
     plain_ok_ = plain_moves_possible(config_.catalog);
     filter_.emplace(outline_, *options_.rules, config_,
                     options_.run_rules ? options_.only_rules : std::vector<std::string>{"(none)"});
+    initial_used_ = filter_->used();
     for (const auto& p : outline_.programs)
         if (!p.name.empty()) names_.insert(p.name);
     library_ = is_subprogram_file(path_);
@@ -368,9 +449,22 @@ std::string Walk::run() {
     if (options_.checkpoints && options_.checkpoint_every)
         shared_outline_ = std::make_shared<const FileOutline>(outline_);
     if (options_.checkpoints && resume_from_checkpoints()) {
-        walk_blocks();
-        end_program_walk();
-        first = program_index_ + 1;
+        bool resumed = true;
+        if (resume_in_loop_) {
+            // Inside a loop: when the edit changed the states where its paths
+            // join, the walk starts before the loop after all.
+            const uint32_t head = resume_in_loop_->loop->head;
+            if (!resume_loop()) {
+                ++stats_.loop_resume_misses;
+                resumed = fall_back_before(head);
+            }
+            resume_in_loop_.reset();
+        }
+        if (resumed) {
+            walk_blocks();
+            end_program_walk();
+            first = program_index_ + 1;
+        }
     }
     for (size_t i = first; i < outline_.programs.size() && !stop_ && error_.empty(); ++i) walk_program(i);
     if (error_.empty() && !stop_ && main_.next_offset() != outline_.size) fail(kChangedMessage);
@@ -475,7 +569,7 @@ void Walk::end_program_walk() {
 
 // --------------------------------------------------------- checkpoints
 
-void Walk::take_checkpoint() {
+std::shared_ptr<FrozenWalk> Walk::freeze() {
     auto f = std::make_shared<FrozenWalk>();
     f->config = &config_;
     f->only_rules = options_.only_rules;
@@ -499,10 +593,14 @@ void Walk::take_checkpoint() {
     f->marks = positions_.marks_before(f->line);
     if (folder_.enabled()) f->folder = folder_;
     if (fingerprints_) f->occurrences = occurrences_;
+    return f;
+}
+
+void Walk::take_checkpoint() {
     auto c = std::make_shared<WalkCheckpoint>();
     c->outline = shared_outline_;
     c->pending_offset = pending_offset_;
-    c->frozen = std::move(f);
+    c->frozen = freeze();
     options_.checkpoints->push_back(std::move(c));
     next_checkpoint_ = main_.next_offset() + options_.checkpoint_every;
 }
@@ -515,6 +613,83 @@ std::optional<uint32_t> moved(uint32_t offset, uint64_t old_size, const TextChan
     if (offset < e.prefix) return offset;
     if (offset >= old_size - e.suffix) return static_cast<uint32_t>(static_cast<int64_t>(offset) + e.bytes);
     return std::nullopt;
+}
+
+// A map by offset in the old text, by offset in the text now (false: a key
+// was in the part that was replaced).
+template <class V>
+bool move_keys(const std::map<uint32_t, V>& in, std::map<uint32_t, V>& out, uint64_t old_size, const TextChange& e) {
+    out.clear();
+    for (const auto& [k, v] : in) {
+        const auto m = moved(k, old_size, e);
+        if (!m) return false;
+        out.emplace_hint(out.end(), *m, v);
+    }
+    return true;
+}
+
+std::shared_ptr<const SweepState> move_sweep(const SweepState& in, uint64_t old_size, const TextChange& e) {
+    auto out = std::make_shared<SweepState>(in);
+    if (!move_keys(in.join, out->join, old_size, e) || !move_keys(in.pending_offset, out->pending_offset, old_size, e) ||
+        !move_keys(in.probes, out->probes, old_size, e) || !move_keys(in.join_stamps, out->join_stamps, old_size, e))
+        return nullptr;
+    for (auto& [name, offsets] : out->defs)
+        for (uint32_t& o : offsets) {
+            const auto m = moved(o, old_size, e);
+            if (!m) return nullptr;
+            o = *m;
+        }
+    const auto extent = moved(in.extent, old_size, e);
+    if (!extent) return nullptr;
+    out->extent = *extent;
+    return out;
+}
+
+std::shared_ptr<const LoopCheckpoint> move_loop(const LoopCheckpoint& in, uint64_t old_size, const TextChange& e) {
+    auto out = std::make_shared<LoopCheckpoint>(in);
+    out->first = move_sweep(*in.first, old_size, e);
+    out->after_first = move_sweep(*in.after_first, old_size, e);
+    if (!out->first || !out->after_first || !move_keys(in.join, out->join, old_size, e) ||
+        !move_keys(in.brought_offset, out->brought_offset, old_size, e))
+        return nullptr;
+    return out;
+}
+
+bool same_state(const MaybeState& a, const MaybeState& b) {
+    return a.reachable == b.reachable && (!a.reachable || a.state == b.state);
+}
+
+template <class Map>
+bool same_states(const Map& a, const Map& b) {
+    if (a.size() != b.size()) return false;
+    for (const auto& [k, v] : a) {
+        const auto it = b.find(k);
+        if (it == b.end() || !same_state(v, it->second)) return false;
+    }
+    return true;
+}
+
+// Whether two first sweeps over a loop from `head` leave the same states
+// wherever the walk with the rules reads them before the block at `at`: the
+// joins and the blocks loop edges reach up to it, the sequence names defined
+// from the head to it.
+bool same_before(const SweepState& a, const SweepState& b, uint32_t head, uint32_t at) {
+    if (a.loop_changed != b.loop_changed || a.defs != b.defs) return false;
+    auto same_upto = [&](const std::map<uint32_t, MaybeState>& x, const std::map<uint32_t, MaybeState>& y) {
+        auto i = x.begin(), j = y.begin();
+        for (; i != x.end() && i->first <= at; ++i, ++j)
+            if (j == y.end() || j->first != i->first || !same_state(i->second, j->second)) return false;
+        return j == y.end() || j->first > at;
+    };
+    if (!same_upto(a.join, b.join) || !same_upto(a.pending_offset, b.pending_offset)) return false;
+    for (const auto& [name, offsets] : a.defs) {
+        if (std::none_of(offsets.begin(), offsets.end(), [&](uint32_t o) { return o >= head && o <= at; })) continue;
+        const auto x = a.pending_name.find(name);
+        const auto y = b.pending_name.find(name);
+        if ((x == a.pending_name.end()) != (y == b.pending_name.end())) return false;
+        if (x != a.pending_name.end() && !same_state(x->second, y->second)) return false;
+    }
+    return true;
 }
 
 // Whether the outline of the text now is the old one moved by the change, for
@@ -601,10 +776,22 @@ bool Walk::resume_from_checkpoints() {
             else moved_c->pending_offset.emplace(*m, state);
         }
         if (!ok) break;
+        if (c->loop) {
+            moved_c->loop = move_loop(*c->loop, c->outline->size, e);
+            if (!moved_c->loop) break;
+        }
         options_.checkpoints->push_back(std::move(moved_c));
     }
     if (options_.checkpoints->empty()) return false;
-    const WalkCheckpoint& c = *options_.checkpoints->back();
+    const Checkpoint& c = options_.checkpoints->back();
+    restore(*c);
+    if (options_.resumed_at) *options_.resumed_at = checkpoint_place(*c);
+    if (c->loop) resume_in_loop_ = c;
+    return true;
+}
+
+// The walk as it was at a checkpoint (of this text, or moved to it).
+void Walk::restore(const WalkCheckpoint& c) {
     const FrozenWalk& f = *c.frozen;
     const ProgramOutline& po = outline_.programs[f.program];
     program_index_ = f.program;
@@ -635,9 +822,7 @@ bool Walk::resume_from_checkpoints() {
     set_state(f.flowing);
     main_.seek(f.offset, f.line);
     next_checkpoint_ = f.offset + options_.checkpoint_every;
-    if (options_.resumed_at) *options_.resumed_at = checkpoint_place(c);
     ++stats_.programs;
-    return true;
 }
 
 // Whether the block starts a loop of the flow graph; `extent` grows to the
@@ -668,7 +853,12 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
 
     in_loop_ = true;
     loop_start_ = start;
+    loop_head_line_ = start_line;
+    loop_entry_ = entry;
     join_.clear();
+    loop_marks_.clear();
+    loop_checkpoints_.clear();
+    next_loop_mark_ = uint64_t(start) + options_.checkpoint_every;
 
     // First sweep, from the input: finds how far the loop reaches, holds its
     // lines when they are few enough.
@@ -697,15 +887,7 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     hold(head, head_line);
     converged(start, 0, false);
     visit(head, head_line, Mode::Iterate);
-    Block b;
-    LineRef line;
-    for (uint32_t index = 1; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
-        if (!read(b, line)) break;
-        loop_head(b, line.start, extent);
-        hold(b, line);
-        converged(line.start, index, false);
-        visit(b, line, Mode::Iterate);
-    }
+    first_sweep(1, extent, hold);
     const uint64_t end = main_.next_offset();
     const uint32_t end_line = main_.next_line();
     ++stats_.loop_sweeps;
@@ -722,16 +904,20 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
 
     // A loop read again from the input: the rules walk it at once, if that turns out right.
     const bool speculate = !holding && loop_changed_ && !options_.observer && !stop_;
-    if (speculate && walk_speculatively(start, start_line, end, entry)) {
+    if (speculate && !loop_marks_.empty()) {
+        after_first_ = std::make_shared<const SweepState>(sweep_state(extent, 0));
+        bringing_ = true;
+    }
+    const bool stands = speculate && walk_speculatively(start, start_line, end, entry);
+    bringing_ = false;
+    if (stands) {
         ++stats_.speculative_walks;
         leave_sweep();
         set_state(out);
-        in_loop_ = false;
-        join_.clear();
-        probes_.clear();
-        join_stamps_.clear();
+        end_loop();
         return;
     }
+    loop_marks_.clear();  // the loop takes more sweeps: no checkpoint inside it
     // Iterate until the states where paths join stop changing.
     while (!stop_ && loop_changed_) {
         loop_changed_ = false;
@@ -751,10 +937,39 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
         set_state(out);
     }
     if (holding && !stop_) main_.seek(end, end_line);
+    end_loop();
+}
+
+void Walk::end_loop() {
     in_loop_ = false;
+    bringing_ = false;
+    brought_name_.clear();
+    brought_offset_.clear();
+    brought_final_ = MaybeState{};
     join_.clear();
     probes_.clear();
     join_stamps_.clear();
+    loop_marks_.clear();
+    loop_mark_next_ = 0;
+    loop_checkpoints_.clear();
+    after_first_.reset();
+}
+
+// The first sweep over a loop from its `index`-th block on (the loop's head
+// was visited), to the last block it reaches back from (`extent` grows as
+// the sweep finds more); `hold` sees each block.
+template <class Hold>
+void Walk::first_sweep(uint32_t index, uint32_t& extent, Hold&& hold) {
+    Block b;
+    LineRef line;
+    for (; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
+        mark_loop(extent, index);
+        if (!read(b, line)) break;
+        loop_head(b, line.start, extent);
+        hold(b, line);
+        converged(line.start, index, false);
+        visit(b, line, Mode::Iterate);
+    }
 }
 
 bool Walk::sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode) {
@@ -786,6 +1001,12 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
     Block b;
     LineRef line;
     for (uint32_t index = 0; !stop_ && main_.next_offset() < end; ++index) {
+        if (speculating_ && loop_mark_next_ < loop_marks_.size()) {
+            while (loop_mark_next_ < loop_marks_.size() && loop_marks_[loop_mark_next_].offset < main_.next_offset())
+                ++loop_mark_next_;
+            if (loop_mark_next_ < loop_marks_.size() && loop_marks_[loop_mark_next_].offset == main_.next_offset())
+                take_loop_checkpoint();
+        }
         if (!read(b, line)) break;
         if (mode == Mode::Iterate && converged(line.start, index, true)) return false;
         visit(b, line, mode);
@@ -845,6 +1066,7 @@ void Walk::enter(const Block& b, uint32_t offset) {
 }
 
 void Walk::contribute_name(std::string_view name, uint32_t offset, uint32_t line, ByteRange range) {
+    if (bringing_) brought_name_[std::string(name)].merge_jump(*B_, line, range);
     auto [it, inserted] = pending_name_.try_emplace(std::string(name));
     if (!it->second.merge_jump(*B_, line, range) || !in_loop_) return;
     if (auto d = defs_.find(it->first); d != defs_.end())
@@ -853,6 +1075,7 @@ void Walk::contribute_name(std::string_view name, uint32_t offset, uint32_t line
 }
 
 void Walk::contribute_offset(uint32_t target, uint32_t offset, uint32_t line, ByteRange range) {
+    if (bringing_) brought_offset_[target].merge_jump(*B_, line, range);
     if (!pending_offset_[target].merge_jump(*B_, line, range) || !in_loop_) return;
     if (target >= loop_start_) join_reached(target, offset, line, range);
 }
@@ -907,7 +1130,7 @@ void Walk::leave(const Block& b, const LineRef& line) {
         }
         if (falls && next >= flow_.end()) exits = true;
     }
-    if (exits) final_state_.merge(*B_);
+    if (exits) bring_final(*B_);
     std::swap(A_, B_);
     reachable_ = falls;
 }
@@ -974,7 +1197,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         }
         apply_plain_move(b, *B_);
         if (rules) check(BlockView{b, *A_, *B_, nullptr, true}, line, true);
-        if (line.end() >= flow_.end()) final_state_.merge(*B_);  // control falls off the last block
+        if (line.end() >= flow_.end()) bring_final(*B_);  // control falls off the last block
         std::swap(A_, B_);
         near_ = true;
         return;
@@ -1125,13 +1348,21 @@ void Walk::flush() {
     verdicts_.clear();
 }
 
-void Walk::extend_reach(const Diagnostic& d) {
-    delivered_reach_ = std::max(delivered_reach_, d.range.bytes.end);
+namespace {
+
+// The furthest byte a finding points at (its range, notes and fixes).
+uint32_t reach_of(const Diagnostic& d) {
+    uint32_t r = d.range.bytes.end;
     for (const Note& n : d.notes)
-        if (n.range) delivered_reach_ = std::max(delivered_reach_, n.range->bytes.end);
+        if (n.range) r = std::max(r, n.range->bytes.end);
     for (const Fix& f : d.fixes)
-        for (const TextEdit& e : f.edits) delivered_reach_ = std::max(delivered_reach_, e.range.bytes.end);
+        for (const TextEdit& e : f.edits) r = std::max(r, e.range.bytes.end);
+    return r;
 }
+
+}  // namespace
+
+void Walk::extend_reach(const Diagnostic& d) { delivered_reach_ = std::max(delivered_reach_, reach_of(d)); }
 
 void Walk::deliver(Diagnostic&& d) {
     if (!speculating_) {
@@ -1180,9 +1411,12 @@ bool Walk::walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end,
             else deliver(std::move(*s));
         }
         speculative_.clear();
+        for (Checkpoint& c : loop_checkpoints_) options_.checkpoints->push_back(std::move(c));
+        loop_checkpoints_.clear();
         return true;
     }
     speculative_.clear();
+    loop_checkpoints_.clear();
     rules_ = std::move(before.rules);
     plain_rules_.clear();
     for (auto& r : rules_)
@@ -1192,6 +1426,201 @@ bool Walk::walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end,
     if (fingerprints_) occurrences_ = std::move(before.occurrences);
     loop_changed_ = true;
     return false;
+}
+
+// ------------------------------------------------- checkpoints inside loops
+
+SweepState Walk::sweep_state(uint32_t extent, uint32_t index) const {
+    SweepState s;
+    s.flowing = MaybeState{reachable_, reachable_ ? *A_ : ModalState{}};
+    s.join = join_;
+    s.pending_name = pending_name_;
+    s.pending_offset = pending_offset_;
+    s.defs = defs_;
+    s.final_state = final_state_;
+    s.probes = probes_;
+    s.join_stamps = join_stamps_;
+    s.stamp = stamp_;
+    s.extent = extent;
+    s.index = index;
+    s.loop_changed = loop_changed_;
+    return s;
+}
+
+void Walk::restore_sweep(const SweepState& s) {
+    set_state(s.flowing);
+    join_ = s.join;
+    pending_name_ = s.pending_name;
+    pending_offset_ = s.pending_offset;
+    defs_ = s.defs;
+    final_state_ = s.final_state;
+    probes_ = s.probes;
+    join_stamps_ = s.join_stamps;
+    stamp_ = s.stamp;
+    loop_changed_ = s.loop_changed;
+}
+
+// In the first sweep over a loop, before the block at the next offset: its
+// states, every checkpoint_every bytes, for the checkpoint the walk with the
+// rules may take there.
+void Walk::mark_loop(uint32_t extent, uint32_t index) {
+    if (!shared_outline_ || main_.next_offset() < next_loop_mark_) return;
+    loop_marks_.push_back(
+        {static_cast<uint32_t>(main_.next_offset()), std::make_shared<const SweepState>(sweep_state(extent, index))});
+    next_loop_mark_ = main_.next_offset() + options_.checkpoint_every;
+}
+
+// In the walk with the rules after the first sweep, before a block the first
+// sweep marked. The findings it keeps aside count as handed over: they are,
+// before any finding after the block, if the walk stands.
+void Walk::take_loop_checkpoint() {
+    const LoopMark& m = loop_marks_[loop_mark_next_++];
+    auto f = freeze();
+    for (const auto& [d, s] : speculative_) {
+        if (d) {
+            ++f->diagnostics;
+            f->reach = std::max(f->reach, reach_of(*d));
+        } else {
+            ++f->suppressed;
+            f->reach = std::max(f->reach, reach_of(s->diagnostic));
+            if (s->directive) f->reach = std::max(f->reach, s->directive->bytes.end);
+        }
+    }
+    auto l = std::make_shared<LoopCheckpoint>();
+    l->head = loop_start_;
+    l->head_line = loop_head_line_;
+    l->entry = loop_entry_;
+    l->first = m.first;
+    l->after_first = after_first_;
+    l->join = join_;
+    l->brought_name = brought_name_;
+    l->brought_offset = brought_offset_;
+    l->brought_final = brought_final_;
+    auto c = std::make_shared<WalkCheckpoint>();
+    c->outline = shared_outline_;
+    c->pending_offset = pending_offset_;
+    c->frozen = std::move(f);
+    c->loop = std::move(l);
+    loop_checkpoints_.push_back(std::move(c));
+}
+
+// Resumes at a checkpoint inside a loop (resume_in_loop_, restored): the
+// first sweep goes on from its block over the new text; when it leaves the
+// states the previous analysis's walk with the rules started from, that walk
+// goes on from the block too, with the findings before it the caller's.
+// False when the loop must be walked from before its head (the walk is then
+// in no state to go on).
+bool Walk::resume_loop() {
+    const WalkCheckpoint& c = *resume_in_loop_;
+    const FrozenWalk& f = *c.frozen;
+    const LoopCheckpoint& l = *c.loop;
+    ++stats_.loops;
+    in_loop_ = true;
+    loop_start_ = l.head;
+    loop_head_line_ = l.head_line;
+    loop_entry_ = l.entry;
+    loop_marks_.clear();
+    loop_checkpoints_.clear();
+    next_loop_mark_ = uint64_t(f.offset) + options_.checkpoint_every;
+    restore_sweep(*l.first);
+    uint32_t extent = l.first->extent;
+    first_sweep(l.first->index, extent, [](const Block&, const LineRef&) {});
+    const uint64_t end = main_.next_offset();
+    ++stats_.loop_sweeps;
+    if (stop_) return true;  // cancelled, or the input failed: the walk ends anyway
+    MaybeState out;
+    if (reachable_) out.merge(*A_);
+    auto now = std::make_shared<const SweepState>(sweep_state(extent, 0));
+    if (!now->loop_changed || !same_before(*now, *l.after_first, l.head, f.offset)) {
+        end_loop();
+        return false;
+    }
+    // The walk with the rules up to the block is then the one of the previous
+    // analysis: at the block, the joins it passed are as it left them, and
+    // the states further on are the new first sweep's with what that walk
+    // brought to them.
+    after_first_ = std::move(now);
+    join_ = after_first_->join;
+    for (const auto& [k, v] : l.join)
+        if (k <= f.offset) join_[k] = v;
+    pending_name_ = after_first_->pending_name;
+    for (const auto& [name, v] : l.brought_name) pending_name_[name].merge(v);
+    pending_offset_ = after_first_->pending_offset;
+    for (const auto& [k, v] : l.brought_offset) pending_offset_[k].merge(v);
+    final_state_ = after_first_->final_state;
+    final_state_.merge(l.brought_final);
+    defs_ = after_first_->defs;
+    brought_name_ = l.brought_name;
+    brought_offset_ = l.brought_offset;
+    brought_final_ = l.brought_final;
+    bringing_ = true;
+    set_state(f.flowing);
+    loop_mark_next_ = 0;
+    speculating_ = true;
+    speculation_overflow_ = false;
+    speculative_.clear();
+    loop_changed_ = false;
+    sweep_file(f.offset, f.line, end, Mode::Rules);
+    speculating_ = false;
+    bringing_ = false;
+    if (stop_) return true;
+    if (loop_changed_ || speculation_overflow_) {
+        speculative_.clear();
+        end_loop();
+        return false;
+    }
+    for (auto& [d, s] : speculative_) {
+        if (d) deliver(std::move(*d));
+        else deliver(std::move(*s));
+    }
+    speculative_.clear();
+    for (Checkpoint& k : loop_checkpoints_) options_.checkpoints->push_back(std::move(k));
+    if (reachable_) out.merge(*A_);
+    set_state(out);
+    end_loop();
+    ++stats_.speculative_walks;
+    ++stats_.loop_resumes;
+    return true;
+}
+
+// After resume_loop failed: the walk starts again at the last checkpoint
+// before the loop's head (outside loops), or from the start of the file
+// (false). Nothing was handed to the sink since the checkpoint it resumed at.
+bool Walk::fall_back_before(uint32_t head) {
+    std::vector<Checkpoint>& cps = *options_.checkpoints;
+    while (!cps.empty() && (cps.back()->loop || cps.back()->frozen->offset > head)) cps.pop_back();
+    if (cps.empty()) {
+        reset_to_start();
+        if (options_.resumed_at) options_.resumed_at->reset();
+        return false;
+    }
+    restore(*cps.back());
+    if (options_.resumed_at) *options_.resumed_at = checkpoint_place(*cps.back());
+    return true;
+}
+
+void Walk::reset_to_start() {
+    options_.checkpoints->clear();
+    rules_.clear();
+    if (options_.run_rules) rules_ = select_rules(*options_.rules, config_, options_.only_rules);
+    plain_rules_.clear();
+    for (auto& r : rules_)
+        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    filter_->set_used(initial_used_);
+    positions_.restore(Positions::Marks{});
+    folder_ = Folder(options_.fold);
+    occurrences_ = OccurrenceCounter{};
+    delivered_diagnostics_ = 0;
+    delivered_suppressed_ = 0;
+    delivered_reach_ = 0;
+    local_used_.clear();
+    seen_main_ = false;
+    next_checkpoint_ = 0;
+    pending_name_.clear();
+    pending_offset_.clear();
+    defs_.clear();
+    final_state_ = MaybeState{};
+    main_.seek(0, 1);
 }
 
 }  // namespace

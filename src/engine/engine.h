@@ -121,8 +121,10 @@ struct EngineOptions {
     // Set from another thread to abandon the walk (the engine then reports
     // "cancelled" as its I/O error).
     const std::atomic<bool>* cancel = nullptr;
-    // Checkpoints (the language server): one before the first block outside
-    // loops at or after every `checkpoint_every` bytes (0: none). On input,
+    // Checkpoints (the language server): one before the first block at or
+    // after every `checkpoint_every` bytes (0: none), outside loops or inside
+    // a loop read again from the input whose walk with the rules followed one
+    // sweep. On input,
     // `checkpoints` holds those of the previous analysis of this document and
     // `edit` says how its text changed since; the walk then starts at the last
     // of them it can (the text before it and the structure it depends on
@@ -156,6 +158,8 @@ struct EngineStats {
     uint64_t speculative_walks = 0;    // loops walked with the rules after one sweep, and found right
     uint64_t transfers = 0;            // blocks applied to a state
     uint64_t label_misses = 0;         // has_label asked for a name the walk did not keep (should stay 0)
+    uint64_t loop_resumes = 0;         // analyses resumed at a checkpoint inside a loop
+    uint64_t loop_resume_misses = 0;   // ... that found the loop's states changed and started before it
 };
 
 inline constexpr std::string_view kCancelled = "cancelled";

@@ -633,13 +633,67 @@ FileResult sorted(const std::string& path, std::vector<Diagnostic> d, std::vecto
 
 }  // namespace
 
-TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh analysis gives") {
+namespace {
+
+// A program that is mostly one loop (user-macro loops around moves, cycles,
+// modes set and reset, jumps back and forward to names that repeat).
+std::string loop_program(std::mt19937& rng, bool settles) {
+    // Moves and jumps only: the states where paths join settle in one sweep.
+    static const char* const kSettles[] = {"G1 X12.5 Y-3. Z-1. F500", "X14. Y2.5", "G0 Z10.", "N20 G0 Z10.",
+                                           "IF [VC1 LT 3] N20", "VC1=VC1+1", "M8", "N30 G0 X5. Y5.", "X20. Y5.",
+                                           "G1 Z-2. F200", "X0 Y0", "(COMMENT)", "IF [VC2 EQ 1] N40", "N40 X3."};
+    static const char* const kLines[] = {
+        "G1 X12.5 Y-3. Z-1. F500", "X14. Y2.5", "G0 Z10.", "G91 G1 X1.", "G90", "G81 Z-5. R3. F100", "X20. Y5.",
+        "G80", "N20 G0 Z10.", "IF [VC1 LT 3] N20", "VC1=VC1+1", "M8", "G18", "G17", "N30 G0 X5. Y5.", "GOTO N30",
+        "MODIN OKYOY PR=2. PZ=-4. PI=20. PJ=8. PD=15 PF=250", "MODOUT", "G1 Z-2. F200", "X0 Y0", "S1200 M3",
+        "T2 M6", "G56 Z50. H2", "IF [VC2 EQ 1] N40", "N40 X3.", "G20", "G21", "(COMMENT)"};
+    std::string t = "O1000\nN1 G90 G0 X0 Y0 Z50.\nVC1=0\nN10 G0 Z20.\n";
+    const int n = 30 + static_cast<int>(rng() % 60);
+    for (int i = 0; i < n; ++i) {
+        if (rng() % 12 == 0) {
+            t += "WHILE [VC2 LT 2] DO 1\nG1 X1. Y1.\nVC2=VC2+1\nEND 1\n";
+            continue;
+        }
+        t += settles ? kSettles[rng() % (sizeof kSettles / sizeof *kSettles)]
+                     : kLines[rng() % (sizeof kLines / sizeof *kLines)];
+        t += '\n';
+    }
+    t += "IF [VC1 LT 5] N10\nG0 Z100.\nM30\n";
+    return t;
+}
+
+// An edit of one character of a number, the most common edit of a program.
+std::string edit_digit(std::string text, std::mt19937& rng) {
+    for (int tries = 0; tries < 50 && !text.empty(); ++tries) {
+        const size_t at = rng() % text.size();
+        if (std::isdigit(static_cast<unsigned char>(text[at]))) {
+            text[at] = static_cast<char>('0' + rng() % 10);
+            return text;
+        }
+    }
+    return text;
+}
+
+// Edits of every corpus program and of generated ones, each analysed from the
+// checkpoints of the analysis before it and compared with a fresh analysis.
+// `held`: the loops held in memory (0: every loop is read again, and may hold
+// checkpoints; then programs that are mostly one loop are edited too).
+struct Resumed {
+    int runs = 0;
+    int resumed = 0;   // from a checkpoint
+    int in_loops = 0;  // ... inside a loop
+    int misses = 0;    // ... inside a loop whose states had changed, then before it
+};
+
+Resumed resumed_edits(size_t held, uint32_t seed_rng) {
     const auto files = corpus_files();
     std::vector<std::pair<fs::path, std::string>> texts;
     for (const auto& f : files) texts.emplace_back(f, read_all(f));
     for (uint32_t seed = 1; seed <= 40; ++seed) texts.emplace_back("gen.min", Generator(seed).program());
-    std::mt19937 rng(5150);
-    int resumed = 0, runs = 0;
+    std::mt19937 rng(seed_rng);
+    if (held == 0)
+        for (int i = 0; i < 120; ++i) texts.emplace_back("loop.min", loop_program(rng, i % 2 == 0));
+    Resumed r;
     for (const auto& [path, original] : texts) {
         const Config config = config_for(path);
         std::string text = original;
@@ -649,17 +703,21 @@ TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh 
             AnalysisOptions o;
             o.checkpoint_every = 64;
             o.checkpoints = &checkpoints;
+            o.held_loop_blocks = held;
             MemorySource src(text);
             check_source(path.string(), src, config, o, previous);
         }
         for (int k = 0; k < 6; ++k) {
-            const std::string edited = mutate(text, rng);
+            const std::string edited = k % 2 ? edit_digit(text, rng) : mutate(text, rng);
             AnalysisOptions o;
             o.checkpoint_every = 64;
             o.checkpoints = &checkpoints;
+            o.held_loop_blocks = held;
             o.edit = text_change(text, edited);
             std::optional<CheckpointPlace> at;
             o.resumed_at = &at;
+            EngineStats stats;
+            o.stats = &stats;
             MemorySource src(edited);
             // The findings made before the checkpoint are kept by the caller.
             InOrder fresh_part;
@@ -667,20 +725,26 @@ TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh 
             std::vector<Diagnostic> d;
             std::vector<SuppressedDiagnostic> s;
             if (at) {
-                ++resumed;
+                ++r.resumed;
                 d.assign(previous.diagnostics.begin(), previous.diagnostics.begin() + static_cast<long>(at->diagnostics));
                 s.assign(previous.suppressed_list.begin(),
                          previous.suppressed_list.begin() + static_cast<long>(at->suppressed));
             }
+            r.in_loops += static_cast<int>(stats.loop_resumes);
+            r.misses += static_cast<int>(stats.loop_resume_misses);
             for (auto& x : fresh_part.diagnostics) d.push_back(x);
             for (auto& x : fresh_part.suppressed_list) s.push_back(x);
             const std::string got = dump_result(sorted(path.string(), d, s));
-            const std::string expected = dump_result(check_text(path.string(), edited, config));
-            ++runs;
+            AnalysisOptions fresh;
+            fresh.held_loop_blocks = held;
+            const std::string expected = dump_result(check_text(path.string(), edited, config, fresh));
+            ++r.runs;
             if (got != expected) {
-                FAIL_CHECK(path.string() << " edit " << k << (at ? " (resumed)" : "") << "\n-- fresh:\n"
+                FAIL_CHECK(path.string() << " edit " << k << (at ? " (resumed)" : "")
+                                         << (stats.loop_resumes ? " (inside a loop)" : "") << "\n-- fresh:\n"
                                          << expected << "-- resumed:\n"
-                                         << got);
+                                         << got << "-- text:\n"
+                                         << edited);
                 break;
             }
             previous.diagnostics = std::move(d);
@@ -688,8 +752,24 @@ TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh 
             text = edited;
         }
     }
-    MESSAGE(resumed << " of " << runs << " analyses resumed from a checkpoint");
-    CHECK(resumed > runs / 4);
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh analysis gives") {
+    const Resumed r = resumed_edits(8192, 5150);
+    MESSAGE(r.resumed << " of " << r.runs << " analyses resumed from a checkpoint");
+    CHECK(r.resumed > r.runs / 4);
+}
+
+TEST_CASE("engine: an edit inside a loop read again is analysed from a checkpoint inside it, as a fresh analysis") {
+    const Resumed r = resumed_edits(0, 6160);
+    MESSAGE(r.resumed << " of " << r.runs << " analyses resumed from a checkpoint, " << r.in_loops
+                      << " inside a loop, " << r.misses << " inside a loop whose states had changed");
+    CHECK(r.resumed > r.runs / 4);
+    CHECK(r.in_loops >= 50);
+    CHECK(r.misses >= 5);
 }
 
 TEST_CASE("engine: an edit of the file's own subprogram reaches the states after its CALL on a resumed analysis") {
@@ -872,4 +952,44 @@ TEST_CASE("text_change: what changed between two texts, block compare or not") {
                 const auto [prefix, suffix] = naive(before, after);
                 CHECK_MESSAGE((c.prefix == prefix && c.suffix == suffix), "at " << at);
             }
+}
+
+TEST_CASE("engine: resumed inside a loop, a jump before the checkpoint still brings its state past it") {
+    // The loop's second pass reaches GOTO N40 with the spindle speed the end
+    // of the loop commands; N40 is reached only by that jump, after the
+    // checkpoint the edit resumes at.
+    std::string text = "O1000\nN10 G0 Z20.\nGOTO N40\n";
+    for (int i = 0; i < 40; ++i) text += "G1 X" + std::to_string(i) + ". Y1. F100\n";
+    const size_t edit_at = text.size() - 8;  // a digit of the last unreachable move
+    text += "N40 X3.\nMODIN OKYOY PR=2. PZ=-4. PI=20. PJ=8. PD=15 PF=250\nX5. Y5.\nMODOUT\nS1200 M3\n"
+            "IF [VC1 LT 5] N10\nM30\n";
+    REQUIRE(std::isdigit(static_cast<unsigned char>(text[edit_at])));
+    const Config config;
+    std::vector<Checkpoint> checkpoints;
+    InOrder previous;
+    AnalysisOptions o;
+    o.checkpoint_every = 64;
+    o.checkpoints = &checkpoints;
+    o.held_loop_blocks = 0;
+    {
+        MemorySource src(text);
+        check_source("b.min", src, config, o, previous);
+    }
+    std::string edited = text;
+    edited[edit_at] = edited[edit_at] == '7' ? '8' : '7';
+    o.edit = text_change(text, edited);
+    std::optional<CheckpointPlace> at;
+    o.resumed_at = &at;
+    EngineStats stats;
+    o.stats = &stats;
+    InOrder fresh_part;
+    MemorySource src(edited);
+    check_source("b.min", src, config, o, fresh_part);
+    REQUIRE(at);
+    CHECK(stats.loop_resumes == 1);
+    std::vector<Diagnostic> d(previous.diagnostics.begin(), previous.diagnostics.begin() + static_cast<long>(at->diagnostics));
+    for (auto& x : fresh_part.diagnostics) d.push_back(x);
+    AnalysisOptions fresh;
+    fresh.held_loop_blocks = 0;
+    CHECK(dump_result(sorted("b.min", d, {})) == dump_result(check_text("b.min", edited, config, fresh)));
 }
