@@ -147,6 +147,10 @@ struct WalkCheckpoint {
     std::map<uint32_t, MaybeState> pending_offset;
     std::shared_ptr<const FrozenWalk> frozen;
     std::shared_ptr<const LoopCheckpoint> loop;  // set inside a loop
+    // The edits made since `loop` was taken (the size of the text before
+    // each, and the change): its offsets are moved to the text now only when
+    // the walk resumes there.
+    std::vector<std::pair<uint64_t, TextChange>> loop_moves;
 };
 
 namespace {
@@ -306,10 +310,24 @@ private:
     struct LoopMark {
         uint32_t offset = 0;
         std::shared_ptr<const SweepState> first;
+        size_t cost = 0;  // the states it holds
     };
     std::vector<LoopMark> loop_marks_;
     size_t loop_mark_next_ = 0;
     uint64_t next_loop_mark_ = 0;
+    // The marks of a loop hold at most about this many states (each of its
+    // checkpoints as many again): past it, every other mark is dropped and
+    // the marks are taken twice as far apart.
+    static constexpr size_t kLoopMarkBudget = 16384;
+    static constexpr size_t kMaxLoopMoves = 64;  // edits a checkpoint inside a loop is moved through
+    size_t loop_mark_cost_ = 0;
+    uint64_t loop_mark_spacing_ = 0;
+    void start_loop_marks(uint64_t from) {
+        loop_marks_.clear();
+        loop_mark_cost_ = 0;
+        loop_mark_spacing_ = options_.checkpoint_every;
+        next_loop_mark_ = from + loop_mark_spacing_;
+    }
     std::vector<Checkpoint> loop_checkpoints_;
     std::shared_ptr<const SweepState> after_first_;
     MaybeState loop_entry_;
@@ -777,10 +795,29 @@ bool Walk::resume_from_checkpoints() {
         }
         if (!ok) break;
         if (c->loop) {
-            moved_c->loop = move_loop(*c->loop, c->outline->size, e);
-            if (!moved_c->loop) break;
+            if (c->loop_moves.size() >= kMaxLoopMoves) break;
+            moved_c->loop = c->loop;
+            moved_c->loop_moves = c->loop_moves;
+            moved_c->loop_moves.emplace_back(c->outline->size, e);
         }
         options_.checkpoints->push_back(std::move(moved_c));
+    }
+    // The last checkpoint, inside a loop: its states moved to this text (or
+    // the one before it, when an offset it holds was in a part replaced since).
+    while (!options_.checkpoints->empty() && options_.checkpoints->back()->loop) {
+        Checkpoint& last = options_.checkpoints->back();
+        std::shared_ptr<const LoopCheckpoint> l = last->loop;
+        for (const auto& [size, change] : last->loop_moves)
+            if (l) l = move_loop(*l, size, change);
+        if (!l) {
+            options_.checkpoints->pop_back();
+            continue;
+        }
+        auto now = std::make_shared<WalkCheckpoint>(*last);
+        now->loop = std::move(l);
+        now->loop_moves.clear();
+        last = std::move(now);
+        break;
     }
     if (options_.checkpoints->empty()) return false;
     const Checkpoint& c = options_.checkpoints->back();
@@ -856,9 +893,8 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     loop_head_line_ = start_line;
     loop_entry_ = entry;
     join_.clear();
-    loop_marks_.clear();
+    start_loop_marks(start);
     loop_checkpoints_.clear();
-    next_loop_mark_ = uint64_t(start) + options_.checkpoint_every;
 
     // First sweep, from the input: finds how far the loop reaches, holds its
     // lines when they are few enough.
@@ -1465,9 +1501,22 @@ void Walk::restore_sweep(const SweepState& s) {
 // rules may take there.
 void Walk::mark_loop(uint32_t extent, uint32_t index) {
     if (!shared_outline_ || main_.next_offset() < next_loop_mark_) return;
-    loop_marks_.push_back(
-        {static_cast<uint32_t>(main_.next_offset()), std::make_shared<const SweepState>(sweep_state(extent, index))});
-    next_loop_mark_ = main_.next_offset() + options_.checkpoint_every;
+    auto first = std::make_shared<const SweepState>(sweep_state(extent, index));
+    const size_t cost = 1 + first->join.size() + first->pending_offset.size() + first->pending_name.size() +
+                        first->probes.size() + first->join_stamps.size();
+    loop_marks_.push_back({static_cast<uint32_t>(main_.next_offset()), std::move(first), cost});
+    loop_mark_cost_ += cost;
+    while (loop_mark_cost_ > kLoopMarkBudget && loop_marks_.size() > 1) {
+        size_t kept = 0;
+        loop_mark_cost_ = 0;
+        for (size_t i = 0; i < loop_marks_.size(); i += 2) {
+            loop_mark_cost_ += loop_marks_[i].cost;
+            loop_marks_[kept++] = std::move(loop_marks_[i]);
+        }
+        loop_marks_.resize(kept);
+        loop_mark_spacing_ *= 2;
+    }
+    next_loop_mark_ = main_.next_offset() + loop_mark_spacing_;
 }
 
 // In the walk with the rules after the first sweep, before a block the first
@@ -1497,8 +1546,7 @@ void Walk::take_loop_checkpoint() {
     l->brought_offset = brought_offset_;
     l->brought_final = brought_final_;
     auto c = std::make_shared<WalkCheckpoint>();
-    c->outline = shared_outline_;
-    c->pending_offset = pending_offset_;
+    c->outline = shared_outline_;  // pending_offset: resume_loop makes it from the loop's states
     c->frozen = std::move(f);
     c->loop = std::move(l);
     loop_checkpoints_.push_back(std::move(c));
@@ -1519,9 +1567,8 @@ bool Walk::resume_loop() {
     loop_start_ = l.head;
     loop_head_line_ = l.head_line;
     loop_entry_ = l.entry;
-    loop_marks_.clear();
+    start_loop_marks(f.offset);
     loop_checkpoints_.clear();
-    next_loop_mark_ = uint64_t(f.offset) + options_.checkpoint_every;
     restore_sweep(*l.first);
     uint32_t extent = l.first->extent;
     first_sweep(l.first->index, extent, [](const Block&, const LineRef&) {});
