@@ -399,6 +399,8 @@ private:
     bool speculation_overflow_ = false;
     std::vector<std::pair<std::optional<Diagnostic>, std::optional<SuppressedDiagnostic>>> speculative_;
     bool walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end, const MaybeState& entry);
+    void begin_speculation();
+    bool end_speculation();
     void deliver(Diagnostic&& d);
     void deliver(SuppressedDiagnostic&& s);
     void mark_changed(uint32_t offset) {
@@ -1425,6 +1427,31 @@ void Walk::deliver(SuppressedDiagnostic&& s) {
     }
 }
 
+void Walk::begin_speculation() {
+    speculating_ = true;
+    speculation_overflow_ = false;
+    speculative_.clear();
+    loop_changed_ = false;
+}
+
+// After a walk with the rules whose findings were kept aside: when it changed
+// no state where paths join, its findings and the checkpoints it took inside
+// the loop are handed on (true); otherwise they are dropped.
+bool Walk::end_speculation() {
+    speculating_ = false;
+    const bool stands = !stop_ && !loop_changed_ && !speculation_overflow_;
+    if (stands) {
+        for (auto& [d, s] : speculative_) {
+            if (d) deliver(std::move(*d));
+            else deliver(std::move(*s));
+        }
+        for (Checkpoint& c : loop_checkpoints_) options_.checkpoints->push_back(std::move(c));
+    }
+    speculative_.clear();
+    loop_checkpoints_.clear();
+    return stands;
+}
+
 // Walks the loop with the rules, its findings kept aside; returns whether they
 // stand (no state where paths join changed). Otherwise everything the walk
 // did to the rules and the findings is undone.
@@ -1434,25 +1461,10 @@ bool Walk::walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end,
     before.folder = folder_;
     before.used = filter_->used();
     if (fingerprints_) before.occurrences = occurrences_;
-    speculating_ = true;
-    speculation_overflow_ = false;
-    speculative_.clear();
-    loop_changed_ = false;
+    begin_speculation();
     set_state(entry);
     sweep_file(start, start_line, end, Mode::Rules);
-    speculating_ = false;
-    if (!stop_ && !loop_changed_ && !speculation_overflow_) {
-        for (auto& [d, s] : speculative_) {
-            if (d) deliver(std::move(*d));
-            else deliver(std::move(*s));
-        }
-        speculative_.clear();
-        for (Checkpoint& c : loop_checkpoints_) options_.checkpoints->push_back(std::move(c));
-        loop_checkpoints_.clear();
-        return true;
-    }
-    speculative_.clear();
-    loop_checkpoints_.clear();
+    if (end_speculation()) return true;
     rules_ = std::move(before.rules);
     plain_rules_.clear();
     for (auto& r : rules_)
@@ -1603,25 +1615,14 @@ bool Walk::resume_loop() {
     bringing_ = true;
     set_state(f.flowing);
     loop_mark_next_ = 0;
-    speculating_ = true;
-    speculation_overflow_ = false;
-    speculative_.clear();
-    loop_changed_ = false;
+    begin_speculation();
     sweep_file(f.offset, f.line, end, Mode::Rules);
-    speculating_ = false;
     bringing_ = false;
     if (stop_) return true;
-    if (loop_changed_ || speculation_overflow_) {
-        speculative_.clear();
+    if (!end_speculation()) {
         end_loop();
         return false;
     }
-    for (auto& [d, s] : speculative_) {
-        if (d) deliver(std::move(*d));
-        else deliver(std::move(*s));
-    }
-    speculative_.clear();
-    for (Checkpoint& k : loop_checkpoints_) options_.checkpoints->push_back(std::move(k));
     if (reachable_) out.merge(*A_);
     set_state(out);
     end_loop();
