@@ -316,9 +316,12 @@ private:
     size_t loop_mark_next_ = 0;
     uint64_t next_loop_mark_ = 0;
     // The marks of a loop hold at most about this many states (each of its
-    // checkpoints as many again): past it, every other mark is dropped and
-    // the marks are taken twice as far apart.
+    // checkpoints as many again), and those of all the loops of an analysis
+    // together kLoopStates: past it, every other mark is dropped and the
+    // marks are taken twice as far apart.
     static constexpr size_t kLoopMarkBudget = 16384;
+    static constexpr size_t kLoopStates = 32768;
+    size_t loop_states_left_ = kLoopStates;
     static constexpr size_t kMaxLoopMoves = 64;  // edits a checkpoint inside a loop is moved through
     size_t loop_mark_cost_ = 0;
     uint64_t loop_mark_spacing_ = 0;
@@ -1446,6 +1449,7 @@ bool Walk::end_speculation() {
             else deliver(std::move(*s));
         }
         for (Checkpoint& c : loop_checkpoints_) options_.checkpoints->push_back(std::move(c));
+        if (!loop_checkpoints_.empty()) loop_states_left_ -= std::min(loop_states_left_, loop_mark_cost_);
     }
     speculative_.clear();
     loop_checkpoints_.clear();
@@ -1512,13 +1516,13 @@ void Walk::restore_sweep(const SweepState& s) {
 // states, every checkpoint_every bytes, for the checkpoint the walk with the
 // rules may take there.
 void Walk::mark_loop(uint32_t extent, uint32_t index) {
-    if (!shared_outline_ || main_.next_offset() < next_loop_mark_) return;
+    if (!shared_outline_ || loop_states_left_ == 0 || main_.next_offset() < next_loop_mark_) return;
     auto first = std::make_shared<const SweepState>(sweep_state(extent, index));
     const size_t cost = 1 + first->join.size() + first->pending_offset.size() + first->pending_name.size() +
                         first->probes.size() + first->join_stamps.size();
     loop_marks_.push_back({static_cast<uint32_t>(main_.next_offset()), std::move(first), cost});
     loop_mark_cost_ += cost;
-    while (loop_mark_cost_ > kLoopMarkBudget && loop_marks_.size() > 1) {
+    while (loop_mark_cost_ > std::min(kLoopMarkBudget, loop_states_left_) && loop_marks_.size() > 1) {
         size_t kept = 0;
         loop_mark_cost_ = 0;
         for (size_t i = 0; i < loop_marks_.size(); i += 2) {
@@ -1649,6 +1653,7 @@ bool Walk::fall_back_before(uint32_t head) {
 
 void Walk::reset_to_start() {
     options_.checkpoints->clear();
+    loop_states_left_ = kLoopStates;
     rules_.clear();
     if (options_.run_rules) rules_ = select_rules(*options_.rules, config_, options_.only_rules);
     plain_rules_.clear();
