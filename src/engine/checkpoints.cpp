@@ -1,0 +1,533 @@
+// Checkpoints of the walk (engine/walk.h): taken between top-level blocks
+// and inside loops, moved to an edited text, resumed at.
+#include "engine/walk.h"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <optional>
+#include <utility>
+
+#include "engine/summaries.h"
+
+namespace osplint {
+
+namespace {
+
+int64_t line_ends(std::string_view s) {
+    int64_t n = 0;
+    for (size_t i = 0; i < s.size(); ++i)
+        if (s[i] == '\n' || (s[i] == '\r' && !(i + 1 < s.size() && s[i + 1] == '\n'))) ++n;
+    return n;
+}
+
+}  // namespace
+
+TextChange text_change(std::string_view before, std::string_view after) {
+    const size_t shorter = std::min(before.size(), after.size());
+    // Whole blocks compared first (memcmp), then the bytes of the block that differs.
+    constexpr size_t kBlock = 4096;
+    size_t prefix = 0;
+    while (prefix + kBlock <= shorter && std::memcmp(before.data() + prefix, after.data() + prefix, kBlock) == 0)
+        prefix += kBlock;
+    while (prefix < shorter && before[prefix] == after[prefix]) ++prefix;
+    if (prefix > 0 && before[prefix - 1] == '\r') --prefix;  // a CR whose LF may have changed
+    size_t suffix = 0;
+    while (suffix + kBlock <= shorter - prefix &&
+           std::memcmp(before.data() + before.size() - suffix - kBlock, after.data() + after.size() - suffix - kBlock,
+                       kBlock) == 0)
+        suffix += kBlock;
+    while (suffix < shorter - prefix && before[before.size() - 1 - suffix] == after[after.size() - 1 - suffix]) ++suffix;
+    // Never an LF without the CR before it, nor the CR of the prefix.
+    while (suffix > 0 && before[before.size() - suffix] == '\n' &&
+           ((before.size() - suffix > prefix && before[before.size() - suffix - 1] == '\r') ||
+            (after.size() - suffix > prefix && after[after.size() - suffix - 1] == '\r')))
+        --suffix;
+    TextChange c;
+    c.prefix = static_cast<uint32_t>(prefix);
+    c.suffix = static_cast<uint32_t>(suffix);
+    c.bytes = static_cast<int64_t>(after.size()) - static_cast<int64_t>(before.size());
+    c.lines = line_ends(after.substr(prefix, after.size() - suffix - prefix)) -
+              line_ends(before.substr(prefix, before.size() - suffix - prefix));
+    return c;
+}
+
+CheckpointPlace checkpoint_place(const WalkCheckpoint& c) {
+    return {c.frozen->offset, c.frozen->line, c.frozen->diagnostics, c.frozen->suppressed};
+}
+
+// --------------------------------------------------------- checkpoints
+
+std::shared_ptr<FrozenWalk> Walk::freeze() {
+    auto f = std::make_shared<FrozenWalk>();
+    f->config = &config_;
+    f->only_rules = options_.only_rules;
+    f->run_rules = options_.run_rules;
+    f->program = program_index_;
+    f->offset = static_cast<uint32_t>(main_.next_offset());
+    f->line = main_.next_line();
+    f->diagnostics = delivered_diagnostics_;
+    f->suppressed = delivered_suppressed_;
+    f->reach = delivered_reach_;
+    f->local_used = local_used_;
+    f->seen_main = seen_main_;
+    f->subprogram = subprogram_;
+    f->program_info = program_;
+    f->flowing = MaybeState{reachable_, reachable_ ? *A_ : ModalState{}};
+    f->pending_name = pending_name_;
+    f->defs = defs_;
+    f->final_state = final_state_;
+    for (const auto& r : rules_) f->rules.push_back(r->clone());
+    f->used = filter_->used();
+    f->marks = positions_.marks_before(f->line);
+    if (folder_.enabled()) f->folder = folder_;
+    if (fingerprints_) f->occurrences = occurrences_;
+    return f;
+}
+
+void Walk::take_checkpoint() {
+    auto c = std::make_shared<WalkCheckpoint>();
+    c->outline = shared_outline_;
+    c->pending_offset = pending_offset_;
+    c->frozen = freeze();
+    options_.checkpoints->push_back(std::move(c));
+    next_checkpoint_ = main_.next_offset() + options_.checkpoint_every;
+}
+
+namespace {
+
+// An old position in the text a checkpoint was taken in, in the text now
+// (nullopt: inside the part that was replaced).
+std::optional<uint32_t> moved(uint32_t offset, uint64_t old_size, const TextChange& e) {
+    if (offset < e.prefix) return offset;
+    if (offset >= old_size - e.suffix) return static_cast<uint32_t>(static_cast<int64_t>(offset) + e.bytes);
+    return std::nullopt;
+}
+
+// A map by offset in the old text, by offset in the text now (false: a key
+// was in the part that was replaced).
+template <class V>
+bool move_keys(const std::map<uint32_t, V>& in, std::map<uint32_t, V>& out, uint64_t old_size, const TextChange& e) {
+    out.clear();
+    for (const auto& [k, v] : in) {
+        const auto m = moved(k, old_size, e);
+        if (!m) return false;
+        out.emplace_hint(out.end(), *m, v);
+    }
+    return true;
+}
+
+std::shared_ptr<const SweepState> move_sweep(const SweepState& in, uint64_t old_size, const TextChange& e) {
+    auto out = std::make_shared<SweepState>(in);
+    if (!move_keys(in.join, out->join, old_size, e) || !move_keys(in.pending_offset, out->pending_offset, old_size, e) ||
+        !move_keys(in.probes, out->probes, old_size, e) || !move_keys(in.join_stamps, out->join_stamps, old_size, e))
+        return nullptr;
+    for (auto& [name, offsets] : out->defs)
+        for (uint32_t& o : offsets) {
+            const auto m = moved(o, old_size, e);
+            if (!m) return nullptr;
+            o = *m;
+        }
+    const auto extent = moved(in.extent, old_size, e);
+    if (!extent) return nullptr;
+    out->extent = *extent;
+    return out;
+}
+
+std::shared_ptr<const LoopCheckpoint> move_loop(const LoopCheckpoint& in, uint64_t old_size, const TextChange& e) {
+    auto out = std::make_shared<LoopCheckpoint>(in);
+    out->first = move_sweep(*in.first, old_size, e);
+    out->after_first = move_sweep(*in.after_first, old_size, e);
+    if (!out->first || !out->after_first || !move_keys(in.join, out->join, old_size, e) ||
+        !move_keys(in.brought_offset, out->brought_offset, old_size, e))
+        return nullptr;
+    return out;
+}
+
+bool same_state(const MaybeState& a, const MaybeState& b) {
+    return a.reachable == b.reachable && (!a.reachable || a.state == b.state);
+}
+
+template <class Map>
+bool same_states(const Map& a, const Map& b) {
+    if (a.size() != b.size()) return false;
+    for (const auto& [k, v] : a) {
+        const auto it = b.find(k);
+        if (it == b.end() || !same_state(v, it->second)) return false;
+    }
+    return true;
+}
+
+// Whether two first sweeps over a loop from `head` leave the same states
+// wherever the walk with the rules reads them before the block at `at`: the
+// joins and the blocks loop edges reach up to it, the sequence names defined
+// from the head to it.
+bool same_before(const SweepState& a, const SweepState& b, uint32_t head, uint32_t at) {
+    if (a.loop_changed != b.loop_changed || a.defs != b.defs) return false;
+    auto same_upto = [&](const std::map<uint32_t, MaybeState>& x, const std::map<uint32_t, MaybeState>& y) {
+        auto i = x.begin(), j = y.begin();
+        for (; i != x.end() && i->first <= at; ++i, ++j)
+            if (j == y.end() || j->first != i->first || !same_state(i->second, j->second)) return false;
+        return j == y.end() || j->first > at;
+    };
+    if (!same_upto(a.join, b.join) || !same_upto(a.pending_offset, b.pending_offset)) return false;
+    for (const auto& [name, offsets] : a.defs) {
+        if (std::none_of(offsets.begin(), offsets.end(), [&](uint32_t o) { return o >= head && o <= at; })) continue;
+        const auto x = a.pending_name.find(name);
+        const auto y = b.pending_name.find(name);
+        if ((x == a.pending_name.end()) != (y == b.pending_name.end())) return false;
+        if (x != a.pending_name.end() && !same_state(x->second, y->second)) return false;
+    }
+    return true;
+}
+
+// Whether the outline of the text now is the old one moved by the change, for
+// what a walk resumed in program `upto` depends on: the programs up to it,
+// every program's name, and every directive.
+bool same_structure(const FileOutline& old, const FileOutline& now, size_t upto, const TextChange& e) {
+    if (old.programs.size() != now.programs.size() || old.directives.size() != now.directives.size()) return false;
+    if (e.prefix > old.size || e.suffix > old.size - e.prefix) return false;
+    auto at = [&](uint32_t offset, uint32_t expected) {
+        const auto m = moved(offset, old.size, e);
+        return m && *m == expected;
+    };
+    auto line_at = [&](uint32_t offset, uint32_t line, uint32_t expected) {
+        return offset < e.prefix ? line == expected : static_cast<int64_t>(line) + e.lines == expected;
+    };
+    auto range_at = [&](ByteRange r, ByteRange expected) {
+        return (r.empty() && expected.empty() && r.begin == expected.begin) ||
+               (at(r.begin, expected.begin) && at(r.end, expected.end));
+    };
+    for (size_t i = 0; i < old.programs.size(); ++i) {
+        const ProgramOutline& a = old.programs[i];
+        const ProgramOutline& b = now.programs[i];
+        if (a.name != b.name) return false;
+        if (i > upto) continue;
+        if (!at(a.offset, b.offset) || !line_at(a.offset, a.line, b.line) || a.has_rts != b.has_rts ||
+            a.has_content != b.has_content || a.references != b.references || a.flow.size() != b.flow.size() ||
+            !(a.name.empty() || range_at(a.name_range, b.name_range)))
+            return false;
+        for (size_t k = 0; k < a.flow.size(); ++k) {
+            const FlowSite& x = a.flow[k];
+            const FlowSite& y = b.flow[k];
+            if (!at(x.offset, y.offset) || !line_at(x.offset, x.line, y.line) || !at(x.next, y.next) ||
+                x.block_delete != y.block_delete || !(x.statements == y.statements))
+                return false;
+        }
+    }
+    if (old.programs.size() > upto + 1 && !at(old.programs[upto + 1].offset, now.programs[upto + 1].offset))
+        return false;
+    for (size_t i = 0; i < old.directives.size(); ++i) {
+        const DirectiveSite& x = old.directives[i];
+        const DirectiveSite& y = now.directives[i];
+        if (!at(x.offset, y.offset) || !line_at(x.offset, x.line, y.line) || x.text != y.text ||
+            x.program != y.program || x.comments.size() != y.comments.size() || x.target.has_value() != y.target.has_value())
+            return false;
+        for (size_t k = 0; k < x.comments.size(); ++k)
+            if (!range_at(x.comments[k], y.comments[k])) return false;
+        if (x.target && (!at(*x.target, *y.target) || !line_at(*x.target, x.target_line, y.target_line))) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+// The checkpoints of the previous analysis that are still valid for this
+// text, moved to it; the walk starts at the last of them. Returns whether it
+// does (false: from the start, with none of the old checkpoints).
+bool Walk::resume_from_checkpoints() {
+    std::vector<Checkpoint> old = std::move(*options_.checkpoints);
+    options_.checkpoints->clear();
+    if (!options_.checkpoint_every) return false;
+    const TextChange& e = options_.edit;
+    for (const Checkpoint& c : old) {
+        const FrozenWalk& f = *c->frozen;
+        if (f.config != &config_ || f.only_rules != options_.only_rules || f.run_rules != options_.run_rules ||
+            f.folder.has_value() != folder_.enabled() || f.occurrences.has_value() != fingerprints_ || !c->outline)
+            break;
+        if (f.offset >= e.prefix || f.reach > e.prefix || f.program >= outline_.programs.size() ||
+            !same_structure(*c->outline, outline_, f.program, e))
+            break;
+        // The file's own subprograms the walk used must leave the same behind in the new text.
+        bool same_summaries = true;
+        for (const auto& [name, used] : f.local_used) {
+            const SubprogramSummary* now = local_summary(name);
+            if (!(now && used ? same_effect(*now, *used) : now == used)) same_summaries = false;
+        }
+        if (!same_summaries) break;
+        auto moved_c = std::make_shared<WalkCheckpoint>();
+        moved_c->outline = shared_outline_;
+        moved_c->frozen = c->frozen;
+        bool ok = true;
+        for (const auto& [offset, state] : c->pending_offset) {
+            const auto m = moved(offset, c->outline->size, e);
+            if (!m) ok = false;
+            else moved_c->pending_offset.emplace(*m, state);
+        }
+        if (!ok) break;
+        if (c->loop) {
+            if (c->loop_moves.size() >= kMaxLoopMoves) break;
+            moved_c->loop = c->loop;
+            moved_c->loop_moves = c->loop_moves;
+            moved_c->loop_moves.emplace_back(c->outline->size, e);
+        }
+        options_.checkpoints->push_back(std::move(moved_c));
+    }
+    // The last checkpoint, inside a loop: its states moved to this text (or
+    // the one before it, when an offset it holds was in a part replaced since).
+    while (!options_.checkpoints->empty() && options_.checkpoints->back()->loop) {
+        Checkpoint& last = options_.checkpoints->back();
+        std::shared_ptr<const LoopCheckpoint> l = last->loop;
+        for (const auto& [size, change] : last->loop_moves)
+            if (l) l = move_loop(*l, size, change);
+        if (!l) {
+            options_.checkpoints->pop_back();
+            continue;
+        }
+        auto now = std::make_shared<WalkCheckpoint>(*last);
+        now->loop = std::move(l);
+        now->loop_moves.clear();
+        last = std::move(now);
+        break;
+    }
+    if (options_.checkpoints->empty()) return false;
+    const Checkpoint& c = options_.checkpoints->back();
+    restore(*c);
+    if (options_.resumed_at) *options_.resumed_at = checkpoint_place(*c);
+    if (c->loop) resume_in_loop_ = c;
+    return true;
+}
+
+// The walk as it was at a checkpoint (of this text, or moved to it).
+void Walk::restore(const WalkCheckpoint& c) {
+    const FrozenWalk& f = *c.frozen;
+    const ProgramOutline& po = outline_.programs[f.program];
+    program_index_ = f.program;
+    flow_ = ProgramFlow(po, outline_.program_end(f.program));
+    tracks_labels_ = !po.references.empty();
+    pending_name_ = f.pending_name;
+    pending_offset_ = c.pending_offset;
+    defs_ = f.defs;
+    join_.clear();
+    final_state_ = f.final_state;
+    seen_main_ = f.seen_main;
+    subprogram_ = f.subprogram;
+    program_ = f.program_info;
+    rules_.clear();
+    plain_rules_.clear();
+    for (const auto& r : f.rules) rules_.push_back(r->clone());
+    for (auto& r : rules_)
+        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    filter_->set_used(f.used);
+    positions_.restore(f.marks);
+    if (f.folder) folder_ = *f.folder;
+    if (f.occurrences) occurrences_ = *f.occurrences;
+    delivered_diagnostics_ = f.diagnostics;
+    delivered_suppressed_ = f.suppressed;
+    delivered_reach_ = f.reach;
+    local_used_ = f.local_used;
+    for (const auto& [name, used] : f.local_used) summary_of_[name] = local_summary(name);
+    set_state(f.flowing);
+    main_.seek(f.offset, f.line);
+    next_checkpoint_ = f.offset + options_.checkpoint_every;
+    ++stats_.programs;
+}
+
+// ------------------------------------------------- checkpoints inside loops
+
+SweepState Walk::sweep_state(uint32_t extent, uint32_t index) const {
+    SweepState s;
+    s.flowing = MaybeState{reachable_, reachable_ ? *A_ : ModalState{}};
+    s.join = join_;
+    s.pending_name = pending_name_;
+    s.pending_offset = pending_offset_;
+    s.defs = defs_;
+    s.final_state = final_state_;
+    s.probes = probes_;
+    s.join_stamps = join_stamps_;
+    s.stamp = stamp_;
+    s.extent = extent;
+    s.index = index;
+    s.loop_changed = loop_changed_;
+    return s;
+}
+
+void Walk::restore_sweep(const SweepState& s) {
+    set_state(s.flowing);
+    join_ = s.join;
+    pending_name_ = s.pending_name;
+    pending_offset_ = s.pending_offset;
+    defs_ = s.defs;
+    final_state_ = s.final_state;
+    probes_ = s.probes;
+    join_stamps_ = s.join_stamps;
+    stamp_ = s.stamp;
+    loop_changed_ = s.loop_changed;
+}
+
+// In the first sweep over a loop, before the block at the next offset: its
+// states, every checkpoint_every bytes, for the checkpoint the walk with the
+// rules may take there.
+void Walk::mark_loop(uint32_t extent, uint32_t index) {
+    if (!shared_outline_ || loop_states_left_ == 0 || main_.next_offset() < next_loop_mark_) return;
+    auto first = std::make_shared<const SweepState>(sweep_state(extent, index));
+    const size_t cost = 1 + first->join.size() + first->pending_offset.size() + first->pending_name.size() +
+                        first->probes.size() + first->join_stamps.size();
+    loop_marks_.push_back({static_cast<uint32_t>(main_.next_offset()), std::move(first), cost});
+    loop_mark_cost_ += cost;
+    while (loop_mark_cost_ > std::min(kLoopMarkBudget, loop_states_left_) && loop_marks_.size() > 1) {
+        size_t kept = 0;
+        loop_mark_cost_ = 0;
+        for (size_t i = 0; i < loop_marks_.size(); i += 2) {
+            loop_mark_cost_ += loop_marks_[i].cost;
+            loop_marks_[kept++] = std::move(loop_marks_[i]);
+        }
+        loop_marks_.resize(kept);
+        loop_mark_spacing_ *= 2;
+    }
+    next_loop_mark_ = main_.next_offset() + loop_mark_spacing_;
+}
+
+// In the walk with the rules after the first sweep, before a block the first
+// sweep marked. The findings it keeps aside count as handed over: they are,
+// before any finding after the block, if the walk stands.
+void Walk::take_loop_checkpoint() {
+    const LoopMark& m = loop_marks_[loop_mark_next_++];
+    auto f = freeze();
+    for (const auto& [d, s] : speculative_) {
+        if (d) {
+            ++f->diagnostics;
+            f->reach = std::max(f->reach, reach_of(*d));
+        } else {
+            ++f->suppressed;
+            f->reach = std::max(f->reach, reach_of(s->diagnostic));
+            if (s->directive) f->reach = std::max(f->reach, s->directive->bytes.end);
+        }
+    }
+    auto l = std::make_shared<LoopCheckpoint>();
+    l->head = loop_start_;
+    l->head_line = loop_head_line_;
+    l->entry = loop_entry_;
+    l->first = m.first;
+    l->after_first = after_first_;
+    l->join = join_;
+    l->brought_name = brought_name_;
+    l->brought_offset = brought_offset_;
+    l->brought_final = brought_final_;
+    auto c = std::make_shared<WalkCheckpoint>();
+    c->outline = shared_outline_;  // pending_offset: resume_loop makes it from the loop's states
+    c->frozen = std::move(f);
+    c->loop = std::move(l);
+    loop_checkpoints_.push_back(std::move(c));
+}
+
+// Resumes at a checkpoint inside a loop (resume_in_loop_, restored): the
+// first sweep goes on from its block over the new text; when it leaves the
+// states the previous analysis's walk with the rules started from, that walk
+// goes on from the block too, with the findings before it the caller's.
+// False when the loop must be walked from before its head (the walk is then
+// in no state to go on).
+bool Walk::resume_loop() {
+    const WalkCheckpoint& c = *resume_in_loop_;
+    const FrozenWalk& f = *c.frozen;
+    const LoopCheckpoint& l = *c.loop;
+    ++stats_.loops;
+    in_loop_ = true;
+    loop_start_ = l.head;
+    loop_head_line_ = l.head_line;
+    loop_entry_ = l.entry;
+    start_loop_marks(f.offset);
+    loop_checkpoints_.clear();
+    restore_sweep(*l.first);
+    uint32_t extent = l.first->extent;
+    first_sweep(l.first->index, extent, [](const Block&, const LineRef&) {});
+    const uint64_t end = main_.next_offset();
+    ++stats_.loop_sweeps;
+    if (stop_) return true;  // cancelled, or the input failed: the walk ends anyway
+    MaybeState out;
+    if (reachable_) out.merge(*A_);
+    auto now = std::make_shared<const SweepState>(sweep_state(extent, 0));
+    if (!now->loop_changed || !same_before(*now, *l.after_first, l.head, f.offset)) {
+        end_loop();
+        return false;
+    }
+    // The walk with the rules up to the block is then the one of the previous
+    // analysis: at the block, the joins it passed are as it left them, and
+    // the states further on are the new first sweep's with what that walk
+    // brought to them.
+    after_first_ = std::move(now);
+    join_ = after_first_->join;
+    for (const auto& [k, v] : l.join)
+        if (k <= f.offset) join_[k] = v;
+    pending_name_ = after_first_->pending_name;
+    for (const auto& [name, v] : l.brought_name) pending_name_[name].merge(v);
+    pending_offset_ = after_first_->pending_offset;
+    for (const auto& [k, v] : l.brought_offset) pending_offset_[k].merge(v);
+    final_state_ = after_first_->final_state;
+    final_state_.merge(l.brought_final);
+    defs_ = after_first_->defs;
+    brought_name_ = l.brought_name;
+    brought_offset_ = l.brought_offset;
+    brought_final_ = l.brought_final;
+    bringing_ = true;
+    set_state(f.flowing);
+    loop_mark_next_ = 0;
+    begin_speculation();
+    sweep_file(f.offset, f.line, end, Mode::Rules);
+    bringing_ = false;
+    if (stop_) return true;
+    if (!end_speculation()) {
+        end_loop();
+        return false;
+    }
+    if (reachable_) out.merge(*A_);
+    set_state(out);
+    end_loop();
+    ++stats_.speculative_walks;
+    ++stats_.loop_resumes;
+    return true;
+}
+
+// After resume_loop failed: the walk starts again at the last checkpoint
+// before the loop's head (outside loops), or from the start of the file
+// (false). Nothing was handed to the sink since the checkpoint it resumed at.
+bool Walk::fall_back_before(uint32_t head) {
+    std::vector<Checkpoint>& cps = *options_.checkpoints;
+    while (!cps.empty() && (cps.back()->loop || cps.back()->frozen->offset > head)) cps.pop_back();
+    if (cps.empty()) {
+        reset_to_start();
+        if (options_.resumed_at) options_.resumed_at->reset();
+        return false;
+    }
+    restore(*cps.back());
+    if (options_.resumed_at) *options_.resumed_at = checkpoint_place(*cps.back());
+    return true;
+}
+
+void Walk::reset_to_start() {
+    options_.checkpoints->clear();
+    loop_states_left_ = kLoopStates;
+    rules_.clear();
+    if (options_.run_rules) rules_ = select_rules(*options_.rules, config_, options_.only_rules);
+    plain_rules_.clear();
+    for (auto& r : rules_)
+        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    filter_->set_used(initial_used_);
+    positions_.restore(Positions::Marks{});
+    folder_ = Folder(options_.fold);
+    occurrences_ = OccurrenceCounter{};
+    delivered_diagnostics_ = 0;
+    delivered_suppressed_ = 0;
+    delivered_reach_ = 0;
+    local_used_.clear();
+    seen_main_ = false;
+    next_checkpoint_ = 0;
+    pending_name_.clear();
+    pending_offset_.clear();
+    defs_.clear();
+    final_state_ = MaybeState{};
+    main_.seek(0, 1);
+}
+
+}  // namespace osplint

@@ -1,0 +1,416 @@
+// The walk of the analysis engine (engine.h), shared by its two parts:
+// engine.cpp walks programs, loops and blocks and hands the findings on;
+// checkpoints.cpp takes the walk's checkpoints, moves them to an edited text
+// and resumes the walk at one (also inside a loop). Internal to the engine.
+#pragma once
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "engine/engine.h"
+#include "engine/fingerprint.h"
+#include "engine/fold.h"
+#include "engine/flow.h"
+#include "engine/positions.h"
+#include "engine/summaries.h"
+#include "engine/suppress.h"
+#include "semantics/eval.h"
+#include "syntax/frontend_fast.h"
+#include "syntax/outline.h"
+
+namespace osplint {
+
+// A state that may be absent (no path reaches the block).
+struct MaybeState {
+    bool reachable = false;
+    ModalState state;
+    // Merges `o` in; returns whether this changed.
+    bool merge(const ModalState& o) {
+        if (!reachable) {
+            state = o;
+            reachable = true;
+            return true;
+        }
+        ModalState before = state;
+        state.merge(o);
+        return !(state == before);
+    }
+    bool merge(const MaybeState& o) { return o.reachable ? merge(o.state) : false; }
+    // Merges in `o` flowing along the jump of the block at `line`.
+    bool merge_jump(const ModalState& o, uint32_t line, ByteRange range) {
+        if (!reachable) {
+            state = o;
+            state.jumped(line, range);
+            reachable = true;
+            return true;
+        }
+        ModalState before = state;
+        state.merge_jump(o, line, range);
+        return !(state == before);
+    }
+};
+
+// A line of a loop held in memory while the loop is iterated.
+struct HeldLine {
+    Block block;
+    uint32_t line = 0;
+    uint32_t start = 0;
+    uint32_t text_size = 0;
+    uint32_t terminator_size = 0;
+};
+
+// When a sweep last entered a join, and when what flows into it last changed.
+struct JoinStamps {
+    uint64_t entered = 0;
+    uint64_t changed = 0;
+};
+
+// What the first sweep over a loop holds before one of its blocks, or when it ends.
+struct SweepState {
+    MaybeState flowing;
+    std::map<uint32_t, MaybeState> join;
+    std::unordered_map<std::string, MaybeState> pending_name;
+    std::map<uint32_t, MaybeState> pending_offset;
+    std::unordered_map<std::string, std::vector<uint32_t>> defs;
+    MaybeState final_state;
+    std::map<uint32_t, MaybeState> probes;
+    std::map<uint32_t, JoinStamps> join_stamps;
+    uint64_t stamp = 0;
+    uint32_t extent = 0;
+    uint32_t index = 0;  // of the block in the loop
+    bool loop_changed = false;
+};
+
+
+
+// What a checkpoint holds that no later edit changes.
+struct FrozenWalk {
+    const Config* config = nullptr;
+    std::vector<std::string> only_rules;
+    bool run_rules = true;
+    size_t program = 0;
+    uint32_t offset = 0;
+    uint32_t line = 0;
+    uint64_t diagnostics = 0;
+    uint64_t suppressed = 0;
+    // The furthest byte a finding delivered so far points at (its notes, its
+    // fixes, the directive that silenced it): an edit before it would leave
+    // the findings the caller keeps pointing at text that moved.
+    uint32_t reach = 0;
+    // The summaries of the file's own programs that the walk used so far (by
+    // name; nullptr: none could be made): an edit that changes what one of
+    // them leaves behind changes the states after its CALLs.
+    std::vector<std::pair<std::string, const SubprogramSummary*>> local_used;
+    bool seen_main = false;
+    bool subprogram = false;
+    Program program_info;
+    MaybeState flowing;
+    std::unordered_map<std::string, MaybeState> pending_name;
+    std::unordered_map<std::string, std::vector<uint32_t>> defs;
+    MaybeState final_state;
+    std::vector<std::unique_ptr<Rule>> rules;
+    std::vector<bool> used;
+    Positions::Marks marks;
+    std::optional<Folder> folder;
+    std::optional<OccurrenceCounter> occurrences;
+};
+
+// A checkpoint inside a loop read again from the input whose walk with the
+// rules followed its first sweep: the loop, the first sweep before the block,
+// what that sweep left (the states the walk with the rules started from), the
+// joins as that walk reached the block, and what it had brought to the states
+// further on. An edit after the block is analysed from there when the first
+// sweep, carried on from the block over the new text, leaves the same states
+// as before wherever the walk up to the block read them (Walk::resume_loop).
+struct LoopCheckpoint {
+    uint32_t head = 0;
+    uint32_t head_line = 0;
+    MaybeState entry;
+    std::shared_ptr<const SweepState> first;
+    std::shared_ptr<const SweepState> after_first;
+    std::map<uint32_t, MaybeState> join;
+    // What that walk brought, before the block, to the sequence names jumped
+    // to, to the blocks loop edges reach, and to the end of the program.
+    std::unordered_map<std::string, MaybeState> brought_name;
+    std::map<uint32_t, MaybeState> brought_offset;
+    MaybeState brought_final;
+};
+
+struct WalkCheckpoint {
+    std::shared_ptr<const FileOutline> outline;  // of the text it is valid for
+    // States left by loop edges for blocks further on, by their offset in that text.
+    std::map<uint32_t, MaybeState> pending_offset;
+    std::shared_ptr<const FrozenWalk> frozen;
+    std::shared_ptr<const LoopCheckpoint> loop;  // set inside a loop
+    // The edits made since `loop` was taken (the size of the text before
+    // each, and the change): its offsets are moved to the text now only when
+    // the walk resumes there.
+    std::vector<std::pair<uint64_t, TextChange>> loop_moves;
+};
+
+
+// The furthest byte a finding points at (its range, notes and fixes).
+inline uint32_t reach_of(const Diagnostic& d) {
+    uint32_t r = d.range.bytes.end;
+    for (const Note& n : d.notes)
+        if (n.range) r = std::max(r, n.range->bytes.end);
+    for (const Fix& f : d.fixes)
+        for (const TextEdit& e : f.edits) r = std::max(r, e.range.bytes.end);
+    return r;
+}
+
+
+class Walk final : public RuleContext {
+public:
+    Walk(const std::string& path, ByteSource& src, const Config& config, const EngineOptions& options,
+         DiagnosticSink& sink, EngineStats& stats)
+        : path_(path), src_(src), config_(config), options_(options), sink_(sink), stats_(stats),
+          main_(src, options.chunk_size), positions_(src) {}
+
+    std::string run();
+
+    // --- RuleContext
+    const Config& config() const override { return config_; }
+    const Catalog& catalog() const override { return config_.catalog; }
+    std::string_view path() const override { return path_; }
+    std::string_view text(ByteRange r) const override;
+    bool has_label(std::string_view name) const override;
+    bool is_jump_target(std::string_view name) const override { return flow_.is_referenced(name); }
+    bool has_program(std::string_view name) const override;
+    std::optional<double> eval(const Block& block, ExprId e, const ModalState& state) const override {
+        return evaluate(block, e, state);
+    }
+    SourceRange resolve(ByteRange r) const override { return positions_.range(r); }
+    Diagnostic& report(const RuleMeta& rule, ByteRange range, std::string message) override;
+    bool folded(const RuleMeta& rule, std::string_view key, ByteRange range) override;
+
+private:
+    enum class Mode { Iterate, Rules };
+
+    // --- reading
+    bool read(Block& b, LineRef& line);
+    void fail(std::string message);
+
+    // --- the walk
+    void walk_program(size_t index);
+    void walk_blocks();
+    void end_program_walk();
+    bool resume_from_checkpoints();
+    void restore(const WalkCheckpoint& c);
+    std::shared_ptr<FrozenWalk> freeze();
+    void take_checkpoint();
+    // --- checkpoints inside a loop (LoopCheckpoint)
+    SweepState sweep_state(uint32_t extent, uint32_t index) const;
+    void restore_sweep(const SweepState& s);
+    void mark_loop(uint32_t extent, uint32_t index);
+    void take_loop_checkpoint();
+    bool resume_loop();
+    bool fall_back_before(uint32_t head);
+    void reset_to_start();
+    void end_loop();
+    template <class Hold>
+    void first_sweep(uint32_t index, uint32_t& extent, Hold&& hold);
+    bool loop_head(const Block& b, uint32_t offset, uint32_t& extent) const;
+    void walk_loop(const Block& head, const LineRef& head_line);
+    // A sweep returns false when it stopped early (it converged, or the walk stops).
+    bool sweep_held(std::vector<HeldLine>& held, const std::string& text, Mode mode);
+    bool sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode);
+    void visit(const Block& b, const LineRef& line, Mode mode);
+    // resolve_call, with the summary of a user subprogram the CALL reaches.
+    std::optional<MacroCall> resolve(const Block& b, const ModalState& before) const;
+    void enter(const Block& b, uint32_t offset);
+    void leave(const Block& b, const LineRef& line);
+    // The state after the block at `offset` (its jump: `line`, `range`) flows to a sequence name or an offset.
+    void contribute_name(std::string_view name, uint32_t offset, uint32_t line, ByteRange range);
+    void contribute_offset(uint32_t target, uint32_t offset, uint32_t line, ByteRange range);
+    void join_reached(uint32_t target, uint32_t offset, uint32_t line, ByteRange range);
+    void set_state(const MaybeState& s);
+    void check(const BlockView& view, const LineRef& line, bool plain);
+
+    // --- findings
+    std::string fingerprint_for(std::string_view rule, uint32_t line);
+    const std::vector<Comment>* comments_of(const LineData& ld);
+    void flush();
+
+    const std::string& path_;
+    ByteSource& src_;
+    const Config& config_;
+    const EngineOptions& options_;
+    DiagnosticSink& sink_;
+    EngineStats& stats_;
+
+    FileOutline outline_;
+    std::vector<std::unique_ptr<Rule>> rules_;
+    std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
+    bool plain_ok_ = true;            // plain_moves_possible with this catalog
+    std::optional<SuppressionFilter> filter_;
+    ProgramNames names_;              // this file's program names
+    // The summaries of the subprograms (of this file or beside it) its CALLs reached, by name.
+    mutable std::map<std::string, const SubprogramSummary*, std::less<>> summary_of_;
+    const SubprogramSummary* local_summary(const std::string& name) const;  // of a program of this file
+    mutable std::vector<std::pair<std::string, const SubprogramSummary*>> local_used_;  // FrozenWalk::local_used
+    bool fingerprints_ = false;
+    OccurrenceCounter occurrences_;
+
+    LineStream main_;
+    FastLineParser parser_;
+    mutable Positions positions_;
+    mutable std::string scratch_text_;
+    std::string error_;
+    bool stop_ = false;
+    uint64_t walked_ = 0;
+
+    // --- checkpoints
+    std::shared_ptr<const FileOutline> shared_outline_;
+    uint64_t next_checkpoint_ = 0;
+    std::vector<bool> initial_used_;  // the suppression directives' use before the walk
+    // Inside a loop: where its first sweep took its states (one every
+    // checkpoint_every bytes), the next of them the walk with the rules
+    // reaches, the checkpoints that walk made (kept when it stands), what
+    // the first sweep left, and the loop's entry.
+    struct LoopMark {
+        uint32_t offset = 0;
+        std::shared_ptr<const SweepState> first;
+        size_t cost = 0;  // the states it holds
+    };
+    std::vector<LoopMark> loop_marks_;
+    size_t loop_mark_next_ = 0;
+    uint64_t next_loop_mark_ = 0;
+    // The marks of a loop hold at most about this many states (each of its
+    // checkpoints as many again), and those of all the loops of an analysis
+    // together kLoopStates: past it, every other mark is dropped and the
+    // marks are taken twice as far apart.
+    static constexpr size_t kLoopMarkBudget = 16384;
+    static constexpr size_t kLoopStates = 32768;
+    size_t loop_states_left_ = kLoopStates;
+    static constexpr size_t kMaxLoopMoves = 64;  // edits a checkpoint inside a loop is moved through
+    size_t loop_mark_cost_ = 0;
+    uint64_t loop_mark_spacing_ = 0;
+    void start_loop_marks(uint64_t from) {
+        loop_marks_.clear();
+        loop_mark_cost_ = 0;
+        loop_mark_spacing_ = options_.checkpoint_every;
+        next_loop_mark_ = from + loop_mark_spacing_;
+    }
+    std::vector<Checkpoint> loop_checkpoints_;
+    std::shared_ptr<const SweepState> after_first_;
+    MaybeState loop_entry_;
+    uint32_t loop_head_line_ = 0;
+    Checkpoint resume_in_loop_;  // the checkpoint inside a loop the walk resumes at
+    // While the walk with the rules after a first sweep may take checkpoints:
+    // what it brings to the states further on (LoopCheckpoint::brought_*).
+    bool bringing_ = false;
+    std::unordered_map<std::string, MaybeState> brought_name_;
+    std::map<uint32_t, MaybeState> brought_offset_;
+    MaybeState brought_final_;
+    void bring_final(const ModalState& s) {
+        final_state_.merge(s);
+        if (bringing_) brought_final_.merge(s);
+    }
+    uint64_t delivered_diagnostics_ = 0;
+    uint64_t delivered_suppressed_ = 0;
+    uint32_t delivered_reach_ = 0;
+    void extend_reach(const Diagnostic& d);
+
+    // --- the current program
+    size_t program_index_ = 0;
+    bool subprogram_ = false;
+    ProgramFlow flow_;
+    Program program_;
+    bool library_ = false;
+    bool seen_main_ = false;
+    bool tracks_labels_ = false;  // the program references sequence names
+    std::unordered_map<std::string, MaybeState> pending_name_;  // states left by jumps, by target name
+    std::map<uint32_t, MaybeState> pending_offset_;             // states left by loop edges, by target block
+    std::unordered_map<std::string, std::vector<uint32_t>> defs_;  // referenced names -> blocks defining them
+    MaybeState final_state_;
+
+    // The state flowing into the next block: *A when reachable_.
+    ModalState states_[2];
+    ModalState* A_ = &states_[0];
+    ModalState* B_ = &states_[1];
+    bool reachable_ = false;
+    bool near_ = false;  // A and B differ at most in the fields a plain move sets
+    const ModalState unknown_{};
+
+    // --- the loop being iterated
+    bool in_loop_ = false;
+    uint32_t loop_start_ = 0;
+    bool loop_changed_ = false;
+    std::map<uint32_t, MaybeState> join_;  // accumulated states at the joins inside the loop
+    // A sweep that reaches a probe with the state the previous sweep had
+    // there, while no join from there on changed since the previous sweep
+    // entered it, would repeat the rest of that sweep: it stops there.
+    static constexpr uint32_t kProbeBlocks = 2048;
+    static constexpr uint64_t kHeldBytesPerBlock = 64;  // a generous line length, to guess a loop's blocks from its bytes
+    std::map<uint32_t, MaybeState> probes_;  // the state flowing into a probe block, in the last sweep that passed it
+    std::map<uint32_t, JoinStamps> join_stamps_;
+    uint64_t stamp_ = 0;
+    bool converged(uint32_t offset, uint32_t index, bool check);
+
+    // A loop too long to hold is walked with the rules as soon as one sweep
+    // has brought the states where paths join back into it: if that walk
+    // changes none of them, its findings stand; if it does, they are dropped,
+    // the rules are put back as they were, and the sweeps go on.
+    struct Speculation {
+        std::vector<std::unique_ptr<Rule>> rules;
+        Folder folder{0};
+        std::vector<bool> used;
+        OccurrenceCounter occurrences;
+    };
+    static constexpr size_t kMaxSpeculativeFindings = 20000;
+    bool speculating_ = false;
+    bool speculation_overflow_ = false;
+    std::vector<std::pair<std::optional<Diagnostic>, std::optional<SuppressedDiagnostic>>> speculative_;
+    bool walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end, const MaybeState& entry);
+    void begin_speculation();
+    bool end_speculation();
+    void deliver(Diagnostic&& d);
+    void deliver(SuppressedDiagnostic&& s);
+    void mark_changed(uint32_t offset) {
+        if (in_loop_) join_stamps_[offset].changed = ++stamp_;
+    }
+
+    // --- findings of the block (or program) in hand
+    const Block* block_ = nullptr;
+    const std::vector<HeldLine>* held_ = nullptr;
+    std::vector<Diagnostic> findings_;
+    std::vector<std::optional<Folder::Verdict>> verdicts_;  // per finding: decided when `folded` was asked
+    std::optional<Folder::Verdict> pending_verdict_;        // from `folded`, for the next report
+    uint64_t pending_kind_ = 0;
+    Folder folder_{0};
+    Block block_buf_;           // the block read last by the walk
+    Block comment_block_;       // a line parsed again for its comments
+    // The fingerprint text of the last line a finding was on: a line with many
+    // findings is read and folded once.
+    uint32_t fingerprint_line_ = 0;
+    std::string fingerprint_program_;
+    std::string fingerprint_text_;
+    std::map<std::string, uint64_t, std::less<>> fingerprint_keys_;  // by rule
+    FastLineParser comment_parser_;
+};
+
+// The first sweep over a loop from its `index`-th block on (the loop's head
+// was visited), to the last block it reaches back from (`extent` grows as
+// the sweep finds more); `hold` sees each block.
+template <class Hold>
+void Walk::first_sweep(uint32_t index, uint32_t& extent, Hold&& hold) {
+    Block b;
+    LineRef line;
+    for (; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
+        mark_loop(extent, index);
+        if (!read(b, line)) break;
+        loop_head(b, line.start, extent);
+        hold(b, line);
+        converged(line.start, index, false);
+        visit(b, line, Mode::Iterate);
+    }
+}
+
+}  // namespace osplint
