@@ -149,16 +149,6 @@ bool same_state(const MaybeState& a, const MaybeState& b) {
     return a.reachable == b.reachable && (!a.reachable || a.state == b.state);
 }
 
-template <class Map>
-bool same_states(const Map& a, const Map& b) {
-    if (a.size() != b.size()) return false;
-    for (const auto& [k, v] : a) {
-        const auto it = b.find(k);
-        if (it == b.end() || !same_state(v, it->second)) return false;
-    }
-    return true;
-}
-
 // Whether two first sweeps over a loop from `head` leave the same states
 // wherever the walk with the rules reads them before the block at `at`: the
 // joins and the blocks loop edges reach up to it, the sequence names defined
