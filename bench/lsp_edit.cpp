@@ -262,11 +262,26 @@ void test_edits(const std::string& label, const std::string& path, int edits) {
         std::fprintf(stderr, "lsp_edit: %s is too short for the edit test\n", path.c_str());
         std::_Exit(3);
     }
+    // A plain move, perhaps after a sequence number ("N930 Y-40. Z-3.481").
+    const auto is_move = [&](uint32_t l) {
+        std::string_view t = src.line_text(l + 1);
+        if (!t.empty() && t[0] == 'N') {
+            const std::size_t blank = t.find(' ');
+            if (blank == std::string_view::npos) return false;
+            t.remove_prefix(blank + 1);
+        }
+        return !t.empty() && t[0] == 'X';
+    };
+    int misses = 0;
     for (int k = 0; k < edits; ++k) {
         uint32_t line = 20 + rng() % (lines - 40);
-        while (line + 20 < lines && src.line_text(line + 1).substr(0, 1) != "X") ++line;
+        while (line + 20 < lines && !is_move(line)) ++line;
         const std::string_view lt = src.line_text(line + 1);
-        if (lt.substr(0, 1) != "X") {
+        if (!is_move(line)) {
+            if (++misses > 1000) {
+                std::fprintf(stderr, "lsp_edit: %s has no plain move (X.. Y.. Z..) to edit\n", path.c_str());
+                std::_Exit(3);
+            }
             --k;
             continue;
         }
