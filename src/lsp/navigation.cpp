@@ -142,13 +142,17 @@ std::vector<DiskDocument> sibling_documents(const fs::path& dir, const std::set<
         files.push_back(p);
     }
     std::sort(files.begin(), files.end());
-    for (const auto& p : files) {
-        std::ifstream in(p, std::ios::binary);
-        if (!in) continue;
-        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        out.push_back(outlined_document(path_to_uri(p.string()), p.string(), std::move(text)));
-    }
+    for (const auto& p : files)
+        if (auto d = read_outlined_document(p)) out.push_back(std::move(*d));
     return out;
+}
+
+std::optional<DiskDocument> read_outlined_document(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) return std::nullopt;
+    return outlined_document(path_to_uri(p.string()), p.string(), std::move(text));
 }
 
 DiskDocument outlined_document(std::string uri, std::string path, std::string text) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -37,6 +38,8 @@ struct DiskDocument {
     DocumentModel doc;
 };
 DiskDocument outlined_document(std::string uri, std::string path, std::string text);
+// The file at `p`, read and outlined so (nullopt: it cannot be read).
+std::optional<DiskDocument> read_outlined_document(const std::filesystem::path& p);
 
 // The subprogram files (.SSB .SUB .LIB .MSB, any case) of `dir`, except the
 // paths in `skip` (open documents) and files over 64 MiB.

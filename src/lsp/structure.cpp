@@ -1,8 +1,6 @@
 #include "lsp/structure.h"
 
 #include <algorithm>
-#include <fstream>
-#include <iterator>
 
 #include "engine/flow.h"
 #include "engine/workspace.h"
@@ -209,19 +207,11 @@ std::vector<SymbolSource> folder_documents(const fs::path& dir, const std::vecto
         files.push_back(p);
     }
     std::sort(files.begin(), files.end());
-    for (const auto& p : files) {
-        std::ifstream in(p, std::ios::binary);
-        if (!in) continue;
-        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        auto doc = std::make_shared<DocumentModel>();
-        doc->path = p.string();
-        MemorySource src(text);
-        OutlineOptions options;
-        options.names_only = true;
-        doc->outline = outline_file(src, options);
-        doc->set_text(std::move(text));
-        out.push_back({path_to_uri(p.string()), std::move(doc)});
-    }
+    for (const auto& p : files)
+        if (auto d = read_outlined_document(p)) {
+            auto doc = std::make_shared<DiskDocument>(std::move(*d));
+            out.push_back({doc->uri, std::shared_ptr<const DocumentModel>(doc, &doc->doc)});
+        }
     return out;
 }
 
