@@ -460,7 +460,10 @@ std::string render_summary(const Counts& s) {
     return out + "\n";
 }
 
-std::string github_escape_data(std::string_view s) {
+namespace {
+// GitHub workflow commands: `%`, CR and LF escaped everywhere, and `:` and
+// `,` too in a property value.
+std::string github_escape(std::string_view s, bool property) {
     std::string out;
     out.reserve(s.size());
     for (char c : s) {
@@ -468,27 +471,18 @@ std::string github_escape_data(std::string_view s) {
             case '%': out += "%25"; break;
             case '\r': out += "%0D"; break;
             case '\n': out += "%0A"; break;
+            case ':': out += property ? "%3A" : ":"; break;
+            case ',': out += property ? "%2C" : ","; break;
             default: out += c;
         }
     }
     return out;
 }
+}  // namespace
 
-std::string github_escape_property(std::string_view s) {
-    std::string out;
-    out.reserve(s.size());
-    for (char c : s) {
-        switch (c) {
-            case '%': out += "%25"; break;
-            case '\r': out += "%0D"; break;
-            case '\n': out += "%0A"; break;
-            case ':': out += "%3A"; break;
-            case ',': out += "%2C"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
+std::string github_escape_data(std::string_view s) { return github_escape(s, false); }
+
+std::string github_escape_property(std::string_view s) { return github_escape(s, true); }
 
 std::string sarif_artifact_uri(const std::string& path, const fs::path& root, bool& relative) {
     std::error_code ec;
