@@ -87,10 +87,16 @@ uint32_t FastLineParser::Impl::assignment(uint32_t p, uint32_t e, const Name& na
     new_word();
     const uint32_t q = expr(r + 1, 0);
     if (q == kFail) return kFail;
+    set_text(assigned_word(wi, p, e).address, name.text, name.len);
+    return q;
+}
+
+// The word `wi` of an assignment whose name is at [p, e) and whose value is
+// the last expression read; its address is the caller's to set.
+Word& FastLineParser::Impl::assigned_word(size_t wi, uint32_t p, uint32_t e) {
     Word& w = b->words[wi];
     const ExprId value = last_expr();
     const ByteRange vr = b->exprs[static_cast<size_t>(value)].range;
-    set_text(w.address, name.text, name.len);
     w.range = {base + p, vr.end};
     w.address_range = abs(p, e);
     w.equals = true;
@@ -98,7 +104,7 @@ uint32_t FastLineParser::Impl::assignment(uint32_t p, uint32_t e, const Name& na
     w.value_range = vr;
     set_text(w.value_text, s + (vr.begin - base), vr.size());
     w.number = literal_value(value);
-    return q;
+    return w;
 }
 
 // `N0207` / `NAT3` inside a block: a word with address N, value = the rest.
@@ -386,17 +392,7 @@ uint32_t FastLineParser::Impl::letter_assignment(uint32_t p, char c) {
     new_word();
     const uint32_t e = expr(r + 1, 0);
     if (e == kFail) return kFail;
-    Word& w = b->words[wi];
-    const ExprId value = last_expr();
-    const ByteRange vr = b->exprs[static_cast<size_t>(value)].range;
-    set_char(w.address, c);
-    w.range = {base + p, vr.end};
-    w.address_range = abs(p, q);
-    w.equals = true;
-    w.value = value;
-    w.value_range = vr;
-    set_text(w.value_text, s + (vr.begin - base), vr.size());
-    w.number = literal_value(value);
+    set_char(assigned_word(wi, p, q).address, c);
     return e;
 }
 

@@ -160,6 +160,7 @@ struct FastLineParser::Impl {
 
     OSPLINT_HOT uint32_t word_number(Word& w, uint32_t p);
     uint32_t assignment(uint32_t p, uint32_t e, const Name& name, Ctx ctx);
+    Word& assigned_word(size_t wi, uint32_t p, uint32_t e);
     uint32_t label_word(uint32_t p, uint32_t e);
     uint32_t keyword_statement(StmtKind kind, uint32_t p, uint32_t e);
     uint32_t call_statement(StmtKind kind, uint32_t p, uint32_t e);
