@@ -17,8 +17,8 @@ namespace {
 
 int64_t line_ends(std::string_view s) {
     int64_t n = 0;
-    for (size_t i = 0; i < s.size(); ++i)
-        if (s[i] == '\n' || (s[i] == '\r' && !(i + 1 < s.size() && s[i + 1] == '\n'))) ++n;
+    for (const char* p = s.data(); p < s.data() + s.size(); ++p)
+        if (ends_line(p, s.data() + s.size())) ++n;
     return n;
 }
 

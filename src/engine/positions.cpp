@@ -16,11 +16,8 @@ void Window::set(std::string_view t, uint32_t b, uint32_t line) {
     first_line = line;
     starts.clear();
     starts.push_back(0);
-    for (size_t i = 0; i < t.size(); ++i) {
-        const char c = t[i];
-        if (c == '\n' || (c == '\r' && !(i + 1 < t.size() && t[i + 1] == '\n')))
-            starts.push_back(static_cast<uint32_t>(i + 1));
-    }
+    for (size_t i = 0; i < t.size(); ++i)
+        if (ends_line(t.data() + i, t.data() + t.size())) starts.push_back(static_cast<uint32_t>(i + 1));
 }
 
 void Window::set_line(const LineRef& l) {
@@ -211,7 +208,7 @@ const LineData& Positions::find_offset(uint32_t offset) {
             }
             if (std::memchr(b, '\r', count)) {
                 for (size_t i = 0; i < count; ++i)
-                    if (b[i] == '\n' || (b[i] == '\r' && b[i + 1] != '\n')) {
+                    if (ends_line(b + i, b + got)) {
                         ++line;
                         start = pos + i + 1;
                     }

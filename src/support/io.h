@@ -174,6 +174,12 @@ bool write_file_atomically(const std::string& path, const std::function<bool(con
 
 // The first LF or CR in [p, e), or nullptr.
 const char* find_line_break(const char* p, const char* e);
+// Whether the byte at `p` (in [p, e)) ends a line: an LF, or a CR that no LF
+// follows. A CR at `e - 1` counts as a line end: a caller whose text goes on
+// past `e` reads the next byte first.
+inline bool ends_line(const char* p, const char* e) {
+    return *p == '\n' || (*p == '\r' && !(p + 1 < e && p[1] == '\n'));
+}
 
 // The size of a line-reading buffer for `src`: `chunk`, or less when the
 // source is known to be smaller (one subprogram of a file must not clear a

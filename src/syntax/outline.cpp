@@ -10,6 +10,7 @@
 #include "syntax/directive.h"
 #include "syntax/frontend_fast.h"
 #include "syntax/frontend_fast_lexer.h"
+#include "support/io.h"
 
 namespace osplint {
 namespace {
@@ -104,7 +105,7 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
             out.candidate = p;
             return out;
         }
-        if (*p == '\n' || (*p == '\r' && !(p + 1 < e && p[1] == '\n'))) ++out.line_ends;
+        if (ends_line(p, e)) ++out.line_ends;
         after_break = is_break(*p) ? 1u : 0u;
         after_i = l == 'i' ? 1u : 0u;
     }
