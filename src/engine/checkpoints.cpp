@@ -48,9 +48,58 @@ TextChange text_change(std::string_view before, std::string_view after) {
     c.prefix = static_cast<uint32_t>(prefix);
     c.suffix = static_cast<uint32_t>(suffix);
     c.bytes = static_cast<int64_t>(after.size()) - static_cast<int64_t>(before.size());
-    c.lines = line_ends(after.substr(prefix, after.size() - suffix - prefix)) -
-              line_ends(before.substr(prefix, before.size() - suffix - prefix));
+    const std::string_view old_part = before.substr(prefix, before.size() - suffix - prefix);
+    const std::string_view new_part = after.substr(prefix, after.size() - suffix - prefix);
+    c.lines = line_ends(new_part) - line_ends(old_part);
+    // One plain line changed: no line break replaced or written, and the
+    // line, which a break ends in both texts, holds no outline item in either.
+    auto has_break = [](std::string_view s) { return find_line_break(s.data(), s.data() + s.size()) != nullptr; };
+    if (!has_break(old_part) && !has_break(new_part)) {
+        size_t start = prefix;
+        while (start > 0 && before[start - 1] != '\n' && before[start - 1] != '\r') --start;
+        auto plain = [&](std::string_view text) {
+            const char* const b = text.data() + start;
+            const char* const brk = find_line_break(b, text.data() + text.size());
+            return brk && static_cast<size_t>(brk - b) < kMaxLineLength && !may_hold_outline_item(b, brk, true);
+        };
+        c.plain_line = plain(before) && plain(after);
+        c.line_start = static_cast<uint32_t>(start);
+    }
     return c;
+}
+
+std::optional<FileOutline> moved_outline(const FileOutline& old, const TextChange& e) {
+    if (!e.plain_line || !old.ok() || old.programs.empty() || !old.first_block || *old.first_block >= e.line_start ||
+        e.prefix < e.line_start || e.prefix > old.size || e.suffix > old.size - e.prefix)
+        return std::nullopt;
+    for (const DirectiveSite& d : old.directives)
+        if (d.offset < e.line_start && (!d.target || *d.target >= e.line_start)) return std::nullopt;
+    // Every position the outline holds starts a line or lies in a line other
+    // than the changed one: those after it move with the text.
+    auto at = [&](uint32_t& x) {
+        if (x > e.line_start) x = static_cast<uint32_t>(static_cast<int64_t>(x) + e.bytes);
+    };
+    auto range = [&](ByteRange& r) {
+        at(r.begin);
+        at(r.end);
+    };
+    FileOutline out = old;
+    for (ProgramOutline& p : out.programs) {
+        at(p.offset);
+        range(p.name_range);
+        for (FlowSite& f : p.flow) {
+            at(f.offset);
+            at(f.next);
+        }
+    }
+    for (DirectiveSite& d : out.directives) {
+        at(d.offset);
+        for (ByteRange& r : d.comments) range(r);
+        if (d.target) at(*d.target);
+    }
+    out.size = static_cast<uint64_t>(static_cast<int64_t>(old.size) + e.bytes);
+    out.lines_parsed = 0;
+    return out;
 }
 
 CheckpointPlace checkpoint_place(const WalkCheckpoint& c) {

@@ -28,9 +28,22 @@ std::string Walk::run() {
         sink_.end_file(path_, std::string(kUtf16Message));
         return std::string(kUtf16Message);
     }
-    OutlineOptions oo;
-    oo.chunk_size = options_.chunk_size;
-    outline_ = outline_file(src_, oo);
+    // After an edit of a plain line, the outline of the text before it, moved.
+    std::optional<FileOutline> moved;
+    if (options_.checkpoints && !options_.checkpoints->empty() && options_.checkpoints->front()->outline) {
+        const FileOutline& before = *options_.checkpoints->front()->outline;
+        const std::optional<uint64_t> size = src_.size();
+        if (size && static_cast<int64_t>(*size) == static_cast<int64_t>(before.size) + options_.edit.bytes)
+            moved = moved_outline(before, options_.edit);
+    }
+    if (moved) {
+        outline_ = std::move(*moved);
+        ++stats_.outlines_moved;
+    } else {
+        OutlineOptions oo;
+        oo.chunk_size = options_.chunk_size;
+        outline_ = outline_file(src_, oo);
+    }
     stats_.outline_lines_parsed += outline_.lines_parsed;
     if (options_.outline) *options_.outline = outline_;
     sink_.begin_file(path_);

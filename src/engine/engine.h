@@ -103,9 +103,21 @@ struct TextChange {
     uint32_t suffix = 0;
     int64_t bytes = 0;  // new size - old size
     int64_t lines = 0;
+    // The change lies inside one line, with a line break after it, that holds
+    // no byte an outlined line must hold (syntax/outline.h), before the change
+    // and after it; `line_start` is where that line starts. The outline of
+    // the new text is then the old one moved (moved_outline).
+    bool plain_line = false;
+    uint32_t line_start = 0;
 };
 // The change from `before` to `after` (never splitting a CR LF).
 TextChange text_change(std::string_view before, std::string_view after);
+// The outline of the text before `e` (`old`), moved to the text after it,
+// when that is what outline_file would make of the new text: `e` changed a
+// plain line (TextChange::plain_line) that is not one the outline parses
+// whatever it holds (up to the file's first block, or from a suppression
+// directive to the block it applies to). nullopt otherwise.
+std::optional<FileOutline> moved_outline(const FileOutline& old, const TextChange& e);
 
 struct EngineOptions {
     const RuleRegistry* rules = nullptr;           // required
@@ -149,6 +161,7 @@ struct EngineStats {
     uint64_t bytes = 0;
     uint64_t lines = 0;                // lines of the input
     uint64_t outline_lines_parsed = 0; // lines the outline parsed
+    uint64_t outlines_moved = 0;       // outlines of an edited text made by moving the old one
     uint64_t blocks_parsed = 0;        // blocks the walk parsed (counting loops read again)
     uint64_t fallback_lines = 0;       // ... of which by the tree-sitter front end
     uint64_t programs = 0;

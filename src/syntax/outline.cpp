@@ -222,6 +222,7 @@ private:
             if (b.program_name || (b.kind == LineKind::Block && !b.is_empty())) {
                 first_found_ = true;
                 first_offset_ = line.start;
+                out_.first_block = line.start;
                 ProgramOutline& p = out_.programs.front();
                 p.has_content = true;
                 if (b.program_name) {

@@ -74,6 +74,9 @@ struct DirectiveSite {
 struct FileOutline {
     std::vector<ProgramOutline> programs;  // none for an empty input, else at least one
     std::vector<DirectiveSite> directives;
+    // Start of the file's first block with content or a program name (the
+    // lines up to it are all parsed); none when there is no such block.
+    std::optional<uint32_t> first_block;
     uint64_t size = 0;         // bytes read
     uint32_t lines = 0;        // blocks (lines) in the input
     uint64_t lines_parsed = 0; // lines handed to the front end (for tests and benchmarks)

@@ -683,6 +683,7 @@ struct Resumed {
     int resumed = 0;   // from a checkpoint
     int in_loops = 0;  // ... inside a loop
     int misses = 0;    // ... inside a loop whose states had changed, then before it
+    int outlines_moved = 0;  // the outline of the edited text made by moving the old one
 };
 
 Resumed resumed_edits(size_t held, uint32_t seed_rng) {
@@ -732,6 +733,7 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
             }
             r.in_loops += static_cast<int>(stats.loop_resumes);
             r.misses += static_cast<int>(stats.loop_resume_misses);
+            r.outlines_moved += static_cast<int>(stats.outlines_moved);
             for (auto& x : fresh_part.diagnostics) d.push_back(x);
             for (auto& x : fresh_part.suppressed_list) s.push_back(x);
             const std::string got = dump_result(sorted(path.string(), d, s));
@@ -759,8 +761,10 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
 
 TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh analysis gives") {
     const Resumed r = resumed_edits(8192, 5150);
-    MESSAGE(r.resumed << " of " << r.runs << " analyses resumed from a checkpoint");
+    MESSAGE(r.resumed << " of " << r.runs << " analyses resumed from a checkpoint, " << r.outlines_moved
+                      << " with the old outline moved");
     CHECK(r.resumed > r.runs / 4);
+    CHECK(r.outlines_moved > r.runs / 10);
 }
 
 TEST_CASE("engine: an edit inside a loop read again is analysed from a checkpoint inside it, as a fresh analysis") {
@@ -952,6 +956,48 @@ TEST_CASE("text_change: what changed between two texts, block compare or not") {
                 const auto [prefix, suffix] = naive(before, after);
                 CHECK_MESSAGE((c.prefix == prefix && c.suffix == suffix), "at " << at);
             }
+}
+
+TEST_CASE("moved_outline: an edit of a plain line moves the old outline to what outline_file makes of the new text") {
+    std::vector<std::string> texts;
+    for (const auto& f : corpus_files()) texts.push_back(read_all(f));
+    for (uint32_t seed = 1; seed <= 60; ++seed) texts.push_back(Generator(seed, true).program());
+    std::mt19937 rng(4242);
+    for (int i = 0; i < 40; ++i) texts.push_back(loop_program(rng, i % 2 == 0));
+    // Directives, and the lines they make the outline parse up to their block.
+    for (int i = 0; i < 40; ++i)
+        texts.push_back("(HEAD)\nO100\nG0 X1.\n(osplint: disable-next-line OSP205)\n\n(C)\n\n(D)\nG81 Z1. R3. F100\nX2.\r\nX3.\nM30\n");
+    // Characters that make a line hold an outline item, and some that do not.
+    static const char kChars[] = "0123456789.-XYZ GNOTEWIF()%=\t";
+    int moved = 0, refused = 0;
+    for (const std::string& before : texts) {
+        if (before.size() < 4) continue;
+        MemorySource bsrc(before);
+        const FileOutline old = outline_file(bsrc);
+        for (int k = 0; k < 25; ++k) {
+            std::string after = before;
+            const size_t at = rng() % after.size();
+            switch (rng() % 3) {
+                case 0: after.insert(at, 1, kChars[rng() % (sizeof kChars - 1)]); break;
+                case 1: after.erase(at, 1 + rng() % 3); break;
+                default: after[at] = kChars[rng() % (sizeof kChars - 1)]; break;
+            }
+            const TextChange c = text_change(before, after);
+            const std::optional<FileOutline> m = moved_outline(old, c);
+            if (!m) {
+                ++refused;
+                continue;
+            }
+            ++moved;
+            MemorySource asrc(after);
+            const FileOutline fresh = outline_file(asrc);
+            REQUIRE_MESSAGE(dump_outline(*m) == dump_outline(fresh), "edit at " << at << " of:\n" << before);
+            CHECK(m->first_block == fresh.first_block);
+        }
+    }
+    MESSAGE(moved << " outlines moved, " << refused << " made again");
+    CHECK(moved > 1000);
+    CHECK(refused > 300);
 }
 
 TEST_CASE("engine: resumed inside a loop, a jump before the checkpoint still brings its state past it") {
