@@ -5,6 +5,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "support/io.h"
+
 
 namespace osplint::lsp {
 
@@ -41,17 +43,18 @@ uint32_t get_u32(const json& obj, const char* key) {
 
 // Byte offset of (line, character) in `text` without building a line index.
 uint32_t offset_in(std::string_view text, uint32_t line, uint32_t character, Encoding enc) {
-    std::size_t start = 0;
+    const char* const b = text.data();
+    const char* const e = b + text.size();
+    const char* start = b;
     for (uint32_t l = 0; l < line; ++l) {
-        std::size_t i = start;
-        while (i < text.size() && text[i] != '\n' && text[i] != '\r') ++i;
-        if (i >= text.size()) return static_cast<uint32_t>(text.size());  // past the last line
-        i += (text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ? 2 : 1;
-        start = i;
+        const char* brk = find_line_break(start, e);
+        if (!brk) return static_cast<uint32_t>(text.size());  // past the last line
+        start = brk + (*brk == '\r' && brk + 1 < e && brk[1] == '\n' ? 2 : 1);
     }
-    std::size_t end = start;
-    while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
-    return static_cast<uint32_t>(start) + bytes_for_columns(text.substr(start, end - start), character, unit_of(enc));
+    const char* end = find_line_break(start, e);
+    if (!end) end = e;
+    return static_cast<uint32_t>(start - b) +
+           bytes_for_columns(std::string_view(start, static_cast<size_t>(end - start)), character, unit_of(enc));
 }
 
 }  // namespace

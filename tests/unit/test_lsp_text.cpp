@@ -217,6 +217,34 @@ TEST_CASE("lsp: content changes: applied in order, incremental and full, in both
     }
 }
 
+TEST_CASE("lsp: a change lands at the offset of its position on every kind of line end") {
+    // Lines shorter and longer than the 16 bytes a line break is looked for at a time.
+    std::string text;
+    const char* const ends[] = {"\n", "\r\n", "\r"};
+    for (int i = 0; i < 40; ++i) {
+        text += std::string(static_cast<size_t>(i * 7 % 37), 'X');
+        text += ends[i % 3];
+    }
+    text += "M30";  // an unterminated last line
+    const SourceText src(text);
+    for (const Encoding enc : {Encoding::Utf8, Encoding::Utf16}) {
+        for (uint32_t off = 0; off <= text.size(); ++off) {
+            if (off > 0 && text[off - 1] == '\r' && off < text.size() && text[off] == '\n') continue;  // inside a CR LF
+            const json pos = to_lsp_position(src, off, enc);
+            std::string edited = text;
+            apply_change(edited, {{"range", {{"start", pos}, {"end", pos}}}, {"text", "#"}}, enc);
+            std::string expected = text;
+            expected.insert(off, "#");
+            REQUIRE_MESSAGE(edited == expected, "offset " << off);
+        }
+        // A line past the last one: the end of the text.
+        std::string edited = text;
+        const json past = {{"line", 1000}, {"character", 0}};
+        apply_change(edited, {{"range", {{"start", past}, {"end", past}}}, {"text", "#"}}, enc);
+        CHECK(edited == text + "#");
+    }
+}
+
 TEST_CASE("lsp: file URIs") {
     CHECK(uri_to_path("file:///home/a%20b/P%C3%A9.MIN") == std::optional<std::string>("/home/a b/P\xC3\xA9.MIN"));
     CHECK(uri_to_path("file://localhost/x.MIN") == std::optional<std::string>("/x.MIN"));
