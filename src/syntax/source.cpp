@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cerrno>
 
+#include "support/io.h"
+
 namespace osplint {
 
 namespace {
@@ -112,14 +114,10 @@ Position resolve_position(std::string_view text, uint32_t line_start, uint32_t l
 SourceText::SourceText(std::string text) : text_(std::move(text)) {
     starts_.push_back(0);
     const std::string_view s = text_;
-    for (size_t i = 0; i < s.size();) {
-        const char ch = s[i];
-        if (ch != '\n' && ch != '\r') {
-            ++i;
-            continue;
-        }
-        i += terminator_at(s, i);
-        starts_.push_back(static_cast<uint32_t>(i));
+    const char* const b = s.data();
+    for (const char* p = b; (p = find_line_break(p, b + s.size()));) {
+        p += terminator_at(s, static_cast<size_t>(p - b));
+        starts_.push_back(static_cast<uint32_t>(p - b));
     }
 }
 
