@@ -45,12 +45,8 @@ uint32_t get_u32(const json& obj, const char* key) {
 uint32_t offset_in(std::string_view text, uint32_t line, uint32_t character, Encoding enc) {
     const char* const b = text.data();
     const char* const e = b + text.size();
-    const char* start = b;
-    for (uint32_t l = 0; l < line; ++l) {
-        const char* brk = find_line_break(start, e);
-        if (!brk) return static_cast<uint32_t>(text.size());  // past the last line
-        start = brk + (*brk == '\r' && brk + 1 < e && brk[1] == '\n' ? 2 : 1);
-    }
+    const char* const start = skip_lines(b, e, line);
+    if (!start) return static_cast<uint32_t>(text.size());  // past the last line
     const char* end = find_line_break(start, e);
     if (!end) end = e;
     return static_cast<uint32_t>(start - b) +

@@ -294,6 +294,34 @@ const char* find_line_break(const char* p, const char* e) {
     return nullptr;
 }
 
+const char* skip_lines(const char* p, const char* e, uint64_t n) {
+    if (n == 0) return p;
+#if defined(__SSE2__)
+    // Sixteen bytes at a time, and the byte after them (a CR at the end of
+    // the block ends a line unless an LF follows it).
+    const __m128i lf = _mm_set1_epi8('\n');
+    const __m128i cr = _mm_set1_epi8('\r');
+    for (; e - p > 16; p += 16) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+        const unsigned l = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, lf)));
+        const unsigned c = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, cr)));
+        if (!(l | c)) continue;
+        const unsigned lf_next = (l >> 1) | (p[16] == '\n' ? 0x8000u : 0u);
+        unsigned ends = l | (c & ~lf_next);
+        const auto count = static_cast<uint64_t>(__builtin_popcount(ends));
+        if (count < n) {
+            n -= count;
+            continue;
+        }
+        for (; n > 1; --n) ends &= ends - 1;  // the n-th line end of the block
+        return p + __builtin_ctz(ends) + 1;
+    }
+#endif
+    for (; p < e; ++p)
+        if (ends_line(p, e) && --n == 0) return p + 1;
+    return nullptr;
+}
+
 void LineStream::seek(uint64_t offset, uint32_t line) {
     line_ = line;
     if (offset >= buf_offset_ && offset <= buf_offset_ + end_) {  // still in the buffer

@@ -180,6 +180,9 @@ const char* find_line_break(const char* p, const char* e);
 inline bool ends_line(const char* p, const char* e) {
     return *p == '\n' || (*p == '\r' && !(p + 1 < e && p[1] == '\n'));
 }
+// The start of the line `n` lines after the one at `p`, each ended as
+// ends_line says; nullptr when [p, e) ends fewer than `n` lines.
+const char* skip_lines(const char* p, const char* e, uint64_t n);
 
 // The size of a line-reading buffer for `src`: `chunk`, or less when the
 // source is known to be smaller (one subprogram of a file must not clear a

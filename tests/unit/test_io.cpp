@@ -12,6 +12,8 @@
 
 #include <cstdio>
 #include <fstream>
+#include <optional>
+#include <random>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -24,6 +26,30 @@
 #include "syntax/outline.h"
 
 using namespace osplint;
+
+TEST_CASE("skip_lines: the start of the line n lines on, on every kind of line end") {
+    // The byte-by-byte definition.
+    auto naive = [](const std::string& t, uint64_t n) -> std::optional<size_t> {
+        if (n == 0) return 0;
+        for (size_t i = 0; i < t.size(); ++i)
+            if (ends_line(t.data() + i, t.data() + t.size()) && --n == 0) return i + 1;
+        return std::nullopt;
+    };
+    std::mt19937 rng(77);
+    for (int k = 0; k < 2000; ++k) {
+        std::string t;
+        const size_t size = rng() % 120;
+        // Runs of text long and short, so that line ends fall on every place of a 16-byte block.
+        while (t.size() < size) t += rng() % 4 ? "XYZ\r\n"[rng() % 5] : 'X';
+        for (uint64_t n = 0; n <= t.size() + 1; ++n) {
+            const char* got = skip_lines(t.data(), t.data() + t.size(), n);
+            const std::optional<size_t> want = naive(t, n);
+            REQUIRE_MESSAGE((got != nullptr) == want.has_value(), "n " << n << " in '" << t << "'");
+            if (got) REQUIRE_MESSAGE(static_cast<size_t>(got - t.data()) == *want, "n " << n << " in '" << t << "'");
+            if (!want) break;
+        }
+    }
+}
 
 TEST_CASE("a line longer than kMaxLineLength stops the line stream") {
     for (size_t chunk : {size_t(7), size_t(64) << 10, size_t(4) << 20}) {
