@@ -17,7 +17,8 @@
 # of the runs. `check --format json` for every shape; the travel shape (every
 # Z below the Z travel of DIR/travel.toml, one finding per block) in every
 # output format with --fold 0, so that every finding is written (to
-# /dev/null). Then `-j 1` against `-j 2` on 100 files of 1 MB, lsp_edit
+# /dev/null). Then `-j 1` against `-j 2` on 100 files of 1 MB, lsp_edit (edits
+# on every shape given)
 # (unless --no-lsp), and the targets, at the largest size:
 #   * every shape: at most 3x the floor's time and a peak RSS of at most 64 MB
 #     (travel: --format json);
@@ -190,7 +191,7 @@ lsp_status=0
 if ((lsp)); then
   echo "lsp_edit: $lsp_edit"
   set +e
-  "$lsp_edit" --dir "$dir" --gen "$gen" | tee "$dir/lsp.out" | grep -v '^target'
+  "$lsp_edit" --dir "$dir" --gen "$gen" --edit-shapes "$shapes" | tee "$dir/lsp.out" | grep -v '^target'
   lsp_status=${PIPESTATUS[0]}
   set -e
   ((lsp_status <= 1)) || echo "FAILED: lsp_edit (exit status $lsp_status)" | tee -a "$failures"
