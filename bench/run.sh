@@ -17,9 +17,8 @@
 # of the runs. `check --format json` for every shape; the travel shape (every
 # Z below the Z travel of DIR/travel.toml, one finding per block) in every
 # output format with --fold 0, so that every finding is written (to
-# /dev/null). Then `-j 1` against `-j 2` on 100 files of 1 MB, lsp_edit (edits
-# on every shape given)
-# (unless --no-lsp), and the targets, at the largest size:
+# /dev/null). Then `-j 1` against `-j 2` on 100 files of 1 MB, lsp_edit
+# (unless --no-lsp; its edits on every shape given), and the targets, at the largest size:
 #   * every shape: at most 3x the floor's time and a peak RSS of at most 64 MB
 #     (travel: --format json);
 #   * travel (1,000,000+ findings from 20 MB on): peak RSS at most 64 MB in every format;
