@@ -17,8 +17,8 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
-        const MacroSpec* spec = macro::shop_macro(c);
-        if (!spec || !macro::is_invocation(*c) || !spec->args_documented) return;
+        const MacroSpec* spec = macro::documented_invocation(c);
+        if (!spec) return;
         // A CALL-style use of a macro documented only in another form is OSP109's
         // finding; its required arguments are still those of the table.
         std::vector<const ArgSpec*> missing;

@@ -17,8 +17,8 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
-        const MacroSpec* spec = macro::shop_macro(c);
-        if (!spec || !macro::is_invocation(*c) || !spec->args_documented) return;
+        const MacroSpec* spec = macro::documented_invocation(c);
+        if (!spec) return;
         for (const auto& a : c->args) {
             if (!a.word) continue;
             if (a.spec || spec->arg(a.name)) continue;  // a.spec: linked to the call's spec, which is `spec`

@@ -30,6 +30,13 @@ inline const MacroSpec* shop_macro(const MacroCall* c) {
     return c->spec;
 }
 
+// The catalog macro a line invokes itself, when the catalog documents its
+// arguments (the argument rules judge only those); nullptr otherwise.
+inline const MacroSpec* documented_invocation(const MacroCall* c) {
+    const MacroSpec* spec = shop_macro(c);
+    return spec && is_invocation(*c) && spec->args_documented ? spec : nullptr;
+}
+
 // The subprogram macros that read their arguments as locals and cannot see
 // M52 on the call line (the back counterboring, wall finishing and keyway
 // manuals), as opposed to G-code cycle macros.

@@ -114,6 +114,16 @@ const MacroArg* given_arg(const MacroCall& c, const ArgSpec* a, const std::strin
     return c.arg(name);
 }
 
+MotionPoint step_point(const ActionStep& step) {
+    MotionPoint p;
+    p.step = step.step;
+    p.label = "step " + step.step;
+    p.text = step.text;
+    p.source = step.source;
+    p.inferred = step.inferred;
+    return p;
+}
+
 std::string mark_for(const std::string& expr) {
     if (expr == "PR" || expr == "R") return "R";
     if (expr == "PZ" || expr == "Z") return "Z";

@@ -185,12 +185,7 @@ void add_macro_sequence(const Block& b, const ModalState& before, const ActiveCy
             env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
             continue;
         }
-        MotionPoint p;
-        p.step = step.step;
-        p.label = "step " + step.step;
-        p.text = step.text;
-        p.source = step.source;
-        p.inferred = step.inferred;
+        MotionPoint p = step_point(step);
         p.expr = step.target;
         p.mark = mark_for(step.target);
         p.value = e.value;

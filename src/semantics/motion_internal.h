@@ -78,6 +78,8 @@ std::string addr_of(const MacroSpec& spec, const std::string& name);
 const MacroArg* given_arg(const MacroCall& c, const ArgSpec* a, const std::string& name);
 // The picture's mark for a point reached by `expr` ("R", "Z", ...; "" = none).
 std::string mark_for(const std::string& expr);
+// The point of an action step as the catalog describes it (no value yet).
+MotionPoint step_point(const ActionStep& step);
 
 // --- Envelopes ------------------------------------------------------------------
 

@@ -185,12 +185,7 @@ void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
     for (const auto& step : run.spec.action) {
         Tri cond = step.when.eval(atom);
         if (cond == Tri::False) continue;
-        MotionPoint p;
-        p.step = step.step;
-        p.label = "step " + step.step;
-        p.text = step.text;
-        p.source = step.source;
-        p.inferred = step.inferred;
+        MotionPoint p = step_point(step);
         p.possible = cond == Tri::Unknown;
         if (!step.target.empty()) {
             if (!target_step(run, lookup, step, p, walk, env)) continue;
