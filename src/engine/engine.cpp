@@ -28,7 +28,8 @@ std::string Walk::run() {
         sink_.end_file(path_, std::string(kUtf16Message));
         return std::string(kUtf16Message);
     }
-    // After an edit of a plain line, the outline of the text before it, moved.
+    // After an edit of a plain line, the outline of the text before it, moved
+    // (every checkpoint of the previous analysis holds that text's outline).
     std::optional<FileOutline> moved;
     if (options_.checkpoints && !options_.checkpoints->empty() && options_.checkpoints->front()->outline) {
         const FileOutline& before = *options_.checkpoints->front()->outline;

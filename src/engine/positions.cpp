@@ -182,46 +182,45 @@ const LineData& Positions::find_offset(uint32_t offset) {
                                    [&](const Checkpoint& c) { return c.offset <= offset; });
     Checkpoint from = it == checkpoints_.begin() ? checkpoints_.front() : *(it - 1);
     if (cache_.ok && cache_.start <= offset && cache_.start > from.offset) from = {cache_.start, cache_.line};
-    if (from.offset <= offset) {
-        if (count_buf_.empty()) count_buf_.resize(size_t(16) << 10);
-        uint64_t pos = from.offset;
-        uint64_t start = from.offset;
-        uint32_t line = from.line;
-        bool read_ok = true;
-        // A CR is a line end unless an LF follows it: the byte at `offset` is
-        // read too, and a CR whose next byte was not read waits for the next block.
-        while (pos < offset) {
-            const size_t want = static_cast<size_t>(std::min<uint64_t>(count_buf_.size(), offset + 1 - pos));
-            const int64_t got = src_->read(pos, count_buf_.data(), want);
-            if (got <= 0) {
+    if (count_buf_.empty()) count_buf_.resize(size_t(16) << 10);
+    uint64_t pos = from.offset;
+    uint64_t start = from.offset;
+    uint32_t line = from.line;
+    bool read_ok = true;
+    // A CR is a line end unless an LF follows it: the byte at `offset` is
+    // read too, and a CR whose next byte was not read waits for the next block.
+    while (pos < offset) {
+        const size_t want = static_cast<size_t>(std::min<uint64_t>(count_buf_.size(), offset + 1 - pos));
+        const int64_t got = src_->read(pos, count_buf_.data(), want);
+        if (got <= 0) {
+            read_ok = false;
+            break;
+        }
+        const char* const b = count_buf_.data();
+        size_t count = static_cast<size_t>(std::min<uint64_t>(static_cast<uint64_t>(got), offset - pos));
+        if (count == static_cast<size_t>(got) && b[count - 1] == '\r') {
+            if (count == 1) {
                 read_ok = false;
                 break;
             }
-            const char* const b = count_buf_.data();
-            size_t count = static_cast<size_t>(std::min<uint64_t>(static_cast<uint64_t>(got), offset - pos));
-            if (count == static_cast<size_t>(got) && b[count - 1] == '\r') {
-                if (count == 1) {
-                    read_ok = false;
-                    break;
-                }
-                --count;
-            }
-            if (std::memchr(b, '\r', count)) {
-                for (size_t i = 0; i < count; ++i)
-                    if (ends_line(b + i, b + got)) {
-                        ++line;
-                        start = pos + i + 1;
-                    }
-            } else {
-                for (const char* q = b; (q = static_cast<const char*>(std::memchr(q, '\n', count - (q - b)))); ++q) {
-                    ++line;
-                    start = pos + static_cast<uint64_t>(q - b) + 1;
-                }
-            }
-            pos += count;
+            --count;
         }
-        if (read_ok && read_line_at(start, line)) return cache_;
+        if (std::memchr(b, '\r', count)) {
+            for (size_t i = 0; i < count; ++i)
+                if (ends_line(b + i, b + got)) {
+                    ++line;
+                    start = pos + i + 1;
+                }
+        } else {
+            for (const char* q = b; (q = static_cast<const char*>(std::memchr(q, '\n', count - (q - b)))); ++q) {
+                ++line;
+                start = pos + static_cast<uint64_t>(q - b) + 1;
+            }
+        }
+        pos += count;
     }
+    if (read_ok && read_line_at(start, line)) return cache_;
+    // A read that failed or came short: the lines are read one by one.
     return scan([&](const Checkpoint& c) { return c.offset <= offset; },
                 [&](const LineRef& l) {
                     const uint64_t end = uint64_t(l.start) + l.text.size() + l.terminator.size();
