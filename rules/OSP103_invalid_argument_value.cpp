@@ -1,6 +1,5 @@
 // OSP103 invalid-argument-value: a documented value constraint is broken.
 #include <cmath>
-#include <functional>
 
 #include "rules/macro_support.h"
 
@@ -19,8 +18,8 @@ struct Known {
     std::optional<double> value;
     ByteRange range;
 };
-using Lookup = std::function<Known(const ArgSpec&)>;
-
+// `lookup(arg)` gives a Known.
+template <class Lookup>
 std::optional<double> eval_terms(const std::vector<ExprTerm>& terms, const MacroSpec& spec, const Lookup& lookup) {
     double sum = 0;
     for (const auto& t : terms) {
@@ -38,6 +37,7 @@ std::optional<double> eval_terms(const std::vector<ExprTerm>& terms, const Macro
 }
 
 
+template <class Lookup>
 void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup, std::optional<Plane> plane,
                   ByteRange fallback) {
     for (const auto& a : spec.args) {
@@ -121,7 +121,7 @@ public:
         // Macro calls: the arguments written on the invoking line.
         if (const MacroSpec* spec = macro::shop_macro(v.call); spec && macro::is_invocation(*v.call)) {
             const MacroCall& c = *v.call;
-            Lookup lookup = [&](const ArgSpec& a) -> Known {
+            const auto lookup = [&](const ArgSpec& a) -> Known {
                 if (const MacroArg* m = macro::given(c, a); m && m->word)
                     return {m->value.known ? std::optional(m->value.value) : std::nullopt, m->word->range};
                 return {};
@@ -133,7 +133,7 @@ public:
         if (!v.after.cycle.known || !v.after.cycle.value || !v.after.cycle.value->macro.empty()) return;
         const CycleSpec* cycle = ctx.catalog().find_cycle(v.after.cycle.value->code);
         if (!cycle) return;
-        Lookup lookup = [&](const ArgSpec& a) -> Known {
+        const auto lookup = [&](const ArgSpec& a) -> Known {
             // Not an operand of a hole pattern on the block (`BHC X0 Y0 I50. J0 K6`: its J is an angle).
             const Word* w = find_address(v.block, a.name);
             for (size_t i = 0; !w && i < a.aliases.size(); ++i) w = find_address(v.block, a.aliases[i]);

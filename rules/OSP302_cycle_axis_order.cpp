@@ -3,7 +3,6 @@
 // for the end vector ...). The relations come from the catalog; OSP103 leaves
 // those between cycle-axis arguments to this rule.
 #include <cmath>
-#include <functional>
 #include <set>
 
 #include "semantics/motion.h"
@@ -37,8 +36,10 @@ struct Side {
     ByteRange range;
 };
 
-// `describe` false: the value only (most relations hold, and then no text is needed).
-Side evaluate_side(const std::string& text, const std::function<Value(const std::string&)>& lookup, bool describe) {
+// `describe` false: the value only (most relations hold, and then no text is
+// needed). `lookup(name)` gives a Value.
+template <class Lookup>
+Side evaluate_side(const std::string& text, const Lookup& lookup, bool describe) {
     Side s;
     const auto* terms = catalog_expr(text);
     if (!terms) return s;
@@ -99,9 +100,7 @@ public:
         const char axis = plane ? plane_axes(*plane).cycle : 0;
 
         bool describe = false;  // the `how` of each value: only for a finding
-        // One std::function for every side evaluated below (a lambda passed
-        // as is would be wrapped, and allocated, at each call).
-        const std::function<Value(const std::string&)> lookup = [&](const std::string& name) -> Value {
+        const auto lookup = [&](const std::string& name) -> Value {
             Value out;
             const ArgSpec* a = spec->arg(name);
             if (const MacroArg* m = a ? macro::given(*c, *a) : c->arg(name)) {

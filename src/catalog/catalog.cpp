@@ -4,6 +4,7 @@
 #include "catalog/catalog.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <charconv>
@@ -104,10 +105,22 @@ struct TextHash {
 }  // namespace
 
 const std::vector<ExprTerm>* catalog_expr(std::string_view text) {
-    thread_local std::unordered_map<std::string, std::optional<std::vector<ExprTerm>>, TextHash, std::equal_to<>>
-        parsed;
+    using Parsed = std::unordered_map<std::string, std::optional<std::vector<ExprTerm>>, TextHash, std::equal_to<>>;
+    thread_local Parsed parsed;
+    // The texts are the catalog's, asked for again and again at the same
+    // addresses: a small table by address answers most without hashing the
+    // text (the text is still compared: an address may hold another since).
+    struct Recent {
+        const char* data = nullptr;
+        const Parsed::value_type* entry = nullptr;
+    };
+    thread_local std::array<Recent, 64> recent{};
+    Recent& r = recent[(reinterpret_cast<uintptr_t>(text.data()) >> 3) & 63];
+    if (r.data == text.data() && r.entry && std::string_view(r.entry->first) == text)
+        return r.entry->second ? &*r.entry->second : nullptr;
     auto it = parsed.find(text);
     if (it == parsed.end()) it = parsed.emplace(std::string(text), parse_catalog_expr(text)).first;
+    r = {text.data(), &*it};  // unordered_map entries keep their address
     return it->second ? &*it->second : nullptr;
 }
 
@@ -167,6 +180,11 @@ uint64_t packed_name(std::string_view n) {
 }
 }  // namespace
 
+namespace {
+// The first slot of a packed name in a table of `mask + 1` slots.
+size_t arg_slot(uint64_t key, size_t mask) { return static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> 40) & mask; }
+}  // namespace
+
 void MacroSpec::index_args() {
     arg_index.clear();
     arg_index_of = 0;
@@ -175,9 +193,18 @@ void MacroSpec::index_args() {
     for (size_t i = 0; i < args.size(); ++i) index.emplace_back(packed_name(args[i].name), static_cast<uint16_t>(i));
     for (size_t i = 0; i < args.size(); ++i)
         for (const auto& al : args[i].aliases) index.emplace_back(packed_name(al), static_cast<uint16_t>(i));
+    if (index.empty()) return;
     for (const auto& [key, i] : index)
         if (!key) return;  // a name too long to pack: arg() compares the names
-    arg_index = std::move(index);
+    size_t slots = 4;
+    while (slots < 2 * index.size()) slots *= 2;
+    std::vector<std::pair<uint64_t, uint16_t>> table(slots, {0, 0});
+    for (const auto& [key, i] : index) {
+        size_t s = arg_slot(key, slots - 1);
+        while (table[s].first && table[s].first != key) s = (s + 1) & (slots - 1);
+        if (!table[s].first) table[s] = {key, i};  // a name met before keeps its first argument
+    }
+    arg_index = std::move(table);
     arg_index_of = args.size();
 }
 
@@ -185,9 +212,11 @@ const ArgSpec* MacroSpec::arg(std::string_view n) const {
     if (!arg_index.empty() && arg_index_of == args.size()) {
         const uint64_t key = packed_name(n);
         if (!key) return nullptr;  // every name is packed: a longer one is none of them
-        for (const auto& [k, i] : arg_index)
-            if (k == key) return &args[i];
-        return nullptr;
+        const size_t mask = arg_index.size() - 1;
+        for (size_t s = arg_slot(key, mask);; s = (s + 1) & mask) {
+            if (arg_index[s].first == key) return &args[arg_index[s].second];
+            if (!arg_index[s].first) return nullptr;  // the table is at most half full
+        }
     }
     for (const auto& a : args)
         if (iequals(a.name, n)) return &a;

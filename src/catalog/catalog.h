@@ -249,10 +249,11 @@ struct MacroSpec {
     std::vector<Caution> cautions;
     std::vector<Reading> readings;
     std::string origin;  // the file that defined it last
-    // `args` by name, then by alias, each packed upper-case into a number
-    // (index_args, when the catalog is read: arg() runs for every argument of
-    // every call). Empty, or made for another number of arguments: arg()
-    // compares the names.
+    // `args` by name, then by alias, each packed upper-case into a number,
+    // in an open-addressed table of a power-of-two size (key 0: a free slot;
+    // a name met twice keeps its first argument), made by index_args when the
+    // catalog is read: arg() runs for every argument of every call. Empty, or
+    // made for another number of arguments: arg() compares the names.
     std::vector<std::pair<uint64_t, uint16_t>> arg_index;
     size_t arg_index_of = 0;  // args.size() when it was made
     void index_args();

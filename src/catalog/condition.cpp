@@ -206,11 +206,11 @@ std::optional<Condition> Condition::parse(std::string_view text, std::string& er
     return c;
 }
 
-Tri Condition::eval(const std::function<Tri(const ConditionAtom&)>& decide) const {
+Tri Condition::eval(FunctionRef<Tri(const ConditionAtom&)> decide) const {
     return root_ < 0 ? Tri::True : eval_node(root_, decide);
 }
 
-Tri Condition::eval_node(int i, const std::function<Tri(const ConditionAtom&)>& decide) const {
+Tri Condition::eval_node(int i, FunctionRef<Tri(const ConditionAtom&)> decide) const {
     const Node& n = nodes_[static_cast<size_t>(i)];
     switch (n.op) {
         case Node::Op::Atom: return decide(n.atom);

@@ -23,6 +23,8 @@
 #include <string_view>
 #include <vector>
 
+#include "support/function_ref.h"
+
 namespace osplint {
 
 // True, false, or not known statically.
@@ -58,7 +60,7 @@ public:
 
     // Three-valued: an atom `decide` cannot decide is Unknown, and so is
     // everything that depends on it.
-    Tri eval(const std::function<Tri(const ConditionAtom&)>& decide) const;
+    Tri eval(FunctionRef<Tri(const ConditionAtom&)> decide) const;
 
     // Every atom, in the order written (to validate argument names).
     std::vector<const ConditionAtom*> atoms() const;
@@ -77,7 +79,7 @@ private:
         ConditionAtom atom;
     };
     friend class ConditionParser;
-    Tri eval_node(int i, const std::function<Tri(const ConditionAtom&)>& decide) const;
+    Tri eval_node(int i, FunctionRef<Tri(const ConditionAtom&)> decide) const;
     std::vector<Node> nodes_;
     int root_ = -1;
     std::string text_;

@@ -180,7 +180,7 @@ void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, Act
 // The action steps in order: a point for every step that moves the cycle
 // axis and whose condition is not known to be false.
 void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
-    const std::function<Tri(const ConditionAtom&)> atom = [&](const ConditionAtom& a) { return run.atom(a); };
+    const auto atom = [&](const ConditionAtom& a) { return run.atom(a); };
     ActionWalk walk;
     for (const auto& step : run.spec.action) {
         Tri cond = step.when.eval(atom);
@@ -207,7 +207,7 @@ void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
 // are evaluated, as values only. The transfer step calls it on every macro
 // call; the tests hold it to walk_action on the corpus.
 Val<double> action_end(const MacroRun& run, const Lookup& lookup, char axis) {
-    const std::function<Tri(const ConditionAtom&)> atom = [&](const ConditionAtom& a) { return run.atom(a); };
+    const auto atom = [&](const ConditionAtom& a) { return run.atom(a); };
     const auto& steps = run.spec.action;
     for (auto it = steps.rbegin(); it != steps.rend(); ++it) {
         const ActionStep& step = *it;

@@ -873,3 +873,67 @@ TEST_CASE("every `when` condition of the shipped catalog is typed, on arguments 
     CHECK(st.when.mentions(ConditionAtom::Kind::MCode, 52));
     CHECK(st.when.mentions_value("PM", 52));
 }
+
+TEST_CASE("MacroSpec::arg: the index finds what comparing the names finds, for every name, alias and near miss") {
+    const Catalog& cat = Catalog::builtin();
+    // Every name an argument goes by, each with its case changed and a letter
+    // added, removed or replaced, and names no argument has.
+    auto probes = [](const MacroSpec& spec) {
+        std::set<std::string> out{"", "P", "PZZZZZZZZ", "Q1", "PX1", "ZZ"};
+        for (const auto& a : spec.args) {
+            std::vector<std::string> names{a.name};
+            names.insert(names.end(), a.aliases.begin(), a.aliases.end());
+            for (const auto& n : names) {
+                out.insert(n);
+                std::string lower = n;
+                for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+                out.insert(lower);
+                out.insert(n + "A");
+                out.insert(n.substr(0, n.size() - 1));
+                std::string other = n;
+                other.back() = other.back() == 'Q' ? 'R' : 'Q';
+                out.insert(other);
+            }
+        }
+        return out;
+    };
+    size_t specs = 0, found = 0;
+    auto check = [&](const MacroSpec& spec) {
+        // The shipped names are all short: the index is made for every spec with arguments.
+        REQUIRE(spec.arg_index.empty() == spec.args.empty());
+        MacroSpec plain = spec;
+        plain.arg_index.clear();  // arg() compares the names
+        ++specs;
+        for (const auto& n : probes(spec)) {
+            INFO(spec.name << " " << n);
+            CHECK(spec.arg(n) == (plain.arg(n) ? &spec.args[static_cast<size_t>(plain.arg(n) - plain.args.data())] : nullptr));
+            if (spec.arg(n)) ++found;
+        }
+    };
+    for (const auto& m : cat.macros()) check(m);
+    for (const auto& c : cat.cycles()) check(c);
+    CHECK(specs > 20);
+    CHECK(found > 200);
+}
+
+TEST_CASE("catalog_expr: a text changed in place at the same address is parsed as it is now") {
+    std::string text = "PR+1";
+    const auto* a = catalog_expr(text);
+    REQUIRE(a != nullptr);
+    REQUIRE(a->size() == 2);
+    CHECK(a->at(0).name == "PR");
+    CHECK(catalog_expr(text) == a);  // asked again: the same terms
+    const char* where = text.data();
+    text[0] = 'Q';
+    text[1] = 'Z';
+    text[3] = '2';
+    REQUIRE(text.data() == where);
+    const auto* b = catalog_expr(text);
+    REQUIRE(b != nullptr);
+    CHECK(b != a);
+    CHECK(b->at(0).name == "QZ");
+    CHECK(b->at(1).number == 2);
+    text = "PR+";  // not an expression
+    CHECK(catalog_expr(text) == nullptr);
+    CHECK(catalog_expr(std::string("PR+1")) == a);
+}
