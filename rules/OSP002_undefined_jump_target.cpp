@@ -50,11 +50,20 @@ public:
         refs_.clear();
     }
 
+    bool same_as(const UndefinedJumpTarget& o) const { return refs_ == o.refs_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        for (Ref& r : refs_)
+            if (!move(r.range)) return false;
+        return true;
+    }
+
 private:
     struct Ref {
         std::string name;
         ByteRange range;
         bool jump;
+        friend bool operator==(const Ref&, const Ref&) = default;
     };
     std::vector<Ref> refs_;  // one per jump or N reference of the program: its structure, not its size
 };

@@ -54,6 +54,14 @@ public:
         report(ctx, l, std::nullopt);
     }
 
+    bool same_as(const DuplicateSequenceName& o) const { return first_ == o.first_ && seen_ == o.seen_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        for (auto& [name, range] : first_)
+            if (!move(range)) return false;
+        return true;
+    }
+
 private:
     static void report(RuleContext& ctx, const Label& l, std::optional<SourceRange> first) {
         auto& d = ctx.report(kMeta, l.range,

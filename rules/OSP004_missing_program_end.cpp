@@ -74,6 +74,14 @@ public:
         }
     }
 
+    bool same_as(const MissingProgramEnd& o) const {
+        return has_end_ == o.has_end_ && has_rts_ == o.has_rts_ && anchor_ == o.anchor_;
+    }
+    template <class Move>
+    bool each_range(Move&& move) {
+        return !anchor_ || move(*anchor_);
+    }
+
 private:
     bool has_end_ = false;
     bool has_rts_ = false;

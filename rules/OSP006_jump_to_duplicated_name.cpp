@@ -68,14 +68,32 @@ public:
         defs_.clear();
     }
 
+    bool same_as(const JumpToDuplicatedName& o) const { return defs_ == o.defs_ && jumps_ == o.jumps_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        for (auto& [name, d] : defs_)
+            for (SourceRange& r : d.places)
+                if (!move(r.bytes)) return false;
+        for (Jump& j : jumps_)
+            if (!move(j.range)) return false;
+        return true;
+    }
+
 private:
     struct Defs {
         std::vector<SourceRange> places;  // the first kNotedDefinitions
         size_t count = 0;
+        friend bool operator==(const Defs& a, const Defs& b) {
+            return a.count == b.count && a.places.size() == b.places.size() &&
+                   std::equal(a.places.begin(), a.places.end(), b.places.begin(), [](const SourceRange& x, const SourceRange& y) {
+                       return x.bytes == y.bytes && x.start == y.start && x.end == y.end;
+                   });
+        }
     };
     struct Jump {
         std::string name;
         ByteRange range;
+        friend bool operator==(const Jump&, const Jump&) = default;
     };
     std::unordered_map<std::string, Defs> defs_;  // names jumped to: the program's structure
     std::vector<Jump> jumps_;

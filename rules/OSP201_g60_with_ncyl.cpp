@@ -74,6 +74,16 @@ public:
 
     void end_program(RuleContext& ctx, const ProgramView&) override { flush(ctx); }
 
+    bool same_as(const G60WithNcyl& o) const {
+        return pending_ == o.pending_ && user_ == o.user_ && user_range_ == o.user_range_;
+    }
+    template <class Move>
+    bool each_range(Move&& move) {
+        for (Ncyl& n : pending_)
+            if (!move(n.range) || (n.may && (!move(n.may->range) || !move(n.may->via_range)))) return false;
+        return move(user_range_);
+    }
+
 private:
     void flush(RuleContext& ctx) {
         if (!user_) return;
@@ -85,6 +95,7 @@ private:
         ByteRange range;            // the NCYL keyword
         std::string from;           // where G60 came from, when a subprogram set it
         std::optional<Origin> may;  // G60 on some paths only: where it is set
+        friend bool operator==(const Ncyl&, const Ncyl&) = default;
     };
 
     void report(RuleContext& ctx, const Ncyl& n, const MacroSpec& spec, const std::string& context,

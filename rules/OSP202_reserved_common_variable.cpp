@@ -25,6 +25,7 @@ struct Use {
     ByteRange range;
     int number = 0;
     bool write = false;
+    friend bool operator==(const Use&, const Use&) = default;
 };
 
 struct Clobber {
@@ -32,6 +33,7 @@ struct Clobber {
     ByteRange range;
     uint32_t line = 0;
     std::string via;  // the user subprogram that runs the macro ("O100"), or empty: the call runs it
+    friend bool operator==(const Clobber&, const Clobber&) = default;
 };
 
 class ReservedCommonVariable final : public RuleBase<ReservedCommonVariable> {
@@ -89,6 +91,18 @@ public:
                                    ctx.resolve(c.range)});
             }
         }
+    }
+
+    bool same_as(const ReservedCommonVariable& o) const {
+        return uses_ == o.uses_ && calls_ == o.calls_ && names_ == o.names_ && distinct_ == o.distinct_;
+    }
+    template <class Move>
+    bool each_range(Move&& move) {
+        for (Use& u : uses_)
+            if (!move(u.range)) return false;
+        for (Clobber& c : calls_)
+            if (!move(c.range)) return false;
+        return true;
     }
 
 private:

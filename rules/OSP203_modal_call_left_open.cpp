@@ -68,10 +68,19 @@ public:
                    "of this pattern");
     }
 
+    bool same_as(const ModalCallLeftOpen& o) const { return modins_ == o.modins_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        for (auto& [line, opened] : modins_)
+            if (!move(opened.range)) return false;
+        return true;
+    }
+
 private:
     struct Opened {
         ByteRange range;  // "MODIN OG87C"
         std::string macro;
+        friend bool operator==(const Opened&, const Opened&) = default;
     };
 
     // The macro the MODIN at `o` opened ("a MODIN" when it is not in sight).

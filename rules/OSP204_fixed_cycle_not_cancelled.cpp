@@ -75,6 +75,12 @@ public:
                        cancel_hint(ctx, *c) + " after the last hole");
     }
 
+    bool same_as(const FixedCycleNotCancelled& o) const { return end_block_ == o.end_block_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        return !end_block_ || move(*end_block_);
+    }
+
 private:
     // No cycle is known to be modal at the end, but one was started and no G80
     // ended it: a G0/G1/G2/G3 came after it, which may or may not end a fixed

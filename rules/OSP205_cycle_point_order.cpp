@@ -126,6 +126,8 @@ public:
                                std::nullopt});
     }
 
+    bool same_as(const CyclePointOrder& o) const { return last_k_ == o.last_k_ && last_ == o.last_; }
+
 private:
     // G77: K, where the step motion changes to the pick motion, is a point on
     // the way from R to the bottom (under G91 K and Z are both measured from

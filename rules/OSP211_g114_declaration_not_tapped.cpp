@@ -66,12 +66,19 @@ public:
 
     void end_program(RuleContext&, const ProgramView&) override { pending_.reset(); }
 
+    bool same_as(const G114DeclarationNotTapped& o) const { return pending_ == o.pending_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        return !pending_ || (move(pending_->g_range) && move(pending_->xy_range));
+    }
+
 private:
     struct Pending {
         ByteRange g_range, xy_range;
         double x = 0, y = 0;
         uint32_t start_line = 0;
         std::string g;
+        friend bool operator==(const Pending&, const Pending&) = default;
     };
 
     void report(RuleContext& ctx, bool no_hole) {

@@ -66,6 +66,14 @@ public:
             d.notes.push_back({"the spindle stops here", ctx.resolve(it->second)});
     }
 
+    bool same_as(const CutAfterSpindleStop& o) const { return stops_ == o.stops_ && reported_ == o.reported_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        for (auto& [line, range] : stops_)
+            if (!move(range)) return false;
+        return true;
+    }
+
 private:
     std::map<uint32_t, ByteRange> stops_;
     std::set<uint32_t> reported_;

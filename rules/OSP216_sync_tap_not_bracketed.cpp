@@ -48,6 +48,11 @@ public:
                        cite("fixed-cycles/g84-sync") + ")");
     }
 
+    bool same_as(const SyncTapNotBracketed& o) const { return last_m843_ == o.last_m843_; }
+    template <class Move>
+    bool each_range(Move&& move) {
+        return !last_m843_ || move(*last_m843_);
+    }
 private:
     std::optional<ByteRange> last_m843_;
 };

@@ -163,6 +163,8 @@ public:
         }
     }
 
+    bool same_as(const CycleAxisOrder& o) const { return reported_ == o.reported_; }
+
 private:
     void report(RuleContext& ctx, const BlockView& v, const MacroSpec& spec, const Relation& r, const Side& l,
                 const Side& rt, std::optional<Plane> plane, char axis) {

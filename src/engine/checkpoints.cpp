@@ -64,8 +64,32 @@ TextChange text_change(std::string_view before, std::string_view after) {
         };
         c.plain_line = plain(before) && plain(after);
         c.line_start = static_cast<uint32_t>(start);
+        const char* const end = before.data() + before.size();
+        if (const char* brk = find_line_break(before.data() + prefix, end)) {
+            const char* next = brk + 1;
+            if (*brk == '\r' && next < end && *next == '\n') ++next;
+            // The break is in the unchanged suffix of both texts.
+            if (static_cast<size_t>(brk - before.data()) >= before.size() - suffix)
+                c.next_line = static_cast<uint32_t>(next - before.data());
+        }
     }
     return c;
+}
+
+std::optional<LineEditMove> line_edit_move(const TextChange& e) {
+    if (!e.next_line || e.lines != 0) return std::nullopt;
+    return LineEditMove{e.line_start, e.next_line, e.bytes};
+}
+
+bool move_diagnostic(Diagnostic& d, const LineEditMove& m) {
+    if (!m.range(d.range.bytes)) return false;
+    for (Note& n : d.notes)
+        if (n.range && !m.range(n.range->bytes)) return false;
+    for (Fix& f : d.fixes)
+        for (TextEdit& t : f.edits)
+            if (!m.range(t.range.bytes)) return false;
+    if (d.folded_last && !m.range(d.folded_last->bytes)) return false;
+    return true;
 }
 
 std::optional<FileOutline> moved_outline(const FileOutline& old, const TextChange& e) {
@@ -140,6 +164,7 @@ void Walk::take_checkpoint() {
     c->outline = shared_outline_;
     c->pending_offset = pending_offset_;
     c->frozen = freeze();
+    c->summaries = walk_summaries_;
     options_.checkpoints->push_back(std::move(c));
     next_checkpoint_ = main_.next_offset() + options_.checkpoint_every;
 }
@@ -272,6 +297,245 @@ bool same_structure(const FileOutline& old, const FileOutline& now, size_t upto,
 
 }  // namespace
 
+// ------------------------------------------- ending early after an edit
+
+namespace {
+
+// A state of the text before an edit inside one line, moved to the text
+// after it (nullopt: it holds a range of the changed line).
+std::optional<MaybeState> moved_state(const MaybeState& s, const LineEditMove& m) {
+    MaybeState out = s;
+    if (!out.state.each_range([&](ByteRange& r) { return m.range(r); })) return std::nullopt;
+    return out;
+}
+
+bool same_moved(const MaybeState& now, const MaybeState& old, const LineEditMove& m) {
+    if (now.reachable != old.reachable) return false;
+    if (!now.reachable) return true;
+    const auto moved = moved_state(old, m);
+    return moved && moved->state == now.state;
+}
+
+template <class Key>
+bool same_moved_map(const std::map<Key, MaybeState>& now, const std::map<Key, MaybeState>& old, const LineEditMove& m,
+                    bool keys_are_blocks) {
+    if (now.size() != old.size()) return false;
+    for (const auto& [k, v] : old) {
+        Key key = k;
+        if constexpr (std::is_same_v<Key, uint32_t>)
+            if (keys_are_blocks && !m.block(key)) return false;
+        const auto it = now.find(key);
+        if (it == now.end() || !same_moved(it->second, v, m)) return false;
+    }
+    return true;
+}
+
+std::unique_ptr<Rule> moved_rule(const Rule& r, const LineEditMove& m) {
+    auto out = r.clone();
+    if (!out->move_ranges([&](ByteRange& x) { return m.range(x); })) return nullptr;
+    return out;
+}
+
+// The summaries used so far by `a`, then those of `b` it does not name.
+std::vector<std::pair<std::string, const SubprogramSummary*>> summaries_union(
+    const std::vector<std::pair<std::string, const SubprogramSummary*>>& a,
+    const std::vector<std::pair<std::string, const SubprogramSummary*>>& b) {
+    auto out = a;
+    for (const auto& x : b)
+        if (std::none_of(out.begin(), out.end(), [&](const auto& y) { return y.first == x.first; })) out.push_back(x);
+    return out;
+}
+
+}  // namespace
+
+// The previous analysis's checkpoints at the top level after the changed
+// line, when the walk may end at one of them (EngineOptions::converged).
+void Walk::find_ahead(const std::vector<Checkpoint>& old) {
+    ahead_.clear();
+    ahead_next_ = 0;
+    edit_move_ = line_edit_move(options_.edit);
+    if (!edit_move_ || !options_.converged || options_.observer || folder_.enabled() || !walk_summaries_) return;
+    const FileOutline* same = nullptr;  // the outline found the same as this text's, moved
+    for (const Checkpoint& c : old) {
+        const FrozenWalk& f = *c->frozen;
+        if (c->loop || !c->outline || !c->summaries || !c->summaries->complete || f.offset < edit_move_->next_line ||
+            f.config != &config_ || f.only_rules != options_.only_rules || f.run_rules != options_.run_rules ||
+            f.folder || f.occurrences.has_value() != fingerprints_)
+            continue;
+        if (c->outline.get() != same) {
+            if (c->outline->programs.empty() ||
+                !same_structure(*c->outline, outline_, c->outline->programs.size() - 1, options_.edit))
+                continue;
+            same = c->outline.get();
+        }
+        ahead_.push_back(c);
+    }
+    if (!ahead_.empty()) {
+        uint32_t at = ahead_.front()->frozen->offset;
+        edit_move_->block(at);
+        ahead_offset_ = at;
+    }
+}
+
+// At a block boundary of the top level at or past the next checkpoint ahead:
+// ends the walk there when its state is that checkpoint's, moved.
+void Walk::try_converge() {
+    while (ahead_next_ < ahead_.size()) {
+        const WalkCheckpoint& c = *ahead_[ahead_next_];
+        uint32_t at = c.frozen->offset;
+        edit_move_->block(at);
+        if (main_.next_offset() < at) {
+            ahead_offset_ = at;
+            return;
+        }
+        ++ahead_next_;
+        if (main_.next_offset() == at && !in_loop_ && !speculating_ && !bringing_ && same_as_moved(c)) {
+            converge_at(c);
+            return;
+        }
+    }
+}
+
+// Whether the walk now is in the state `old` holds, moved by the edit.
+bool Walk::same_as_moved(const WalkCheckpoint& old) const {
+    const FrozenWalk& f = *old.frozen;
+    const LineEditMove& m = *edit_move_;
+    if (f.program != program_index_ || f.seen_main != seen_main_ || f.subprogram != subprogram_) return false;
+    Program p = f.program_info;
+    if (!m.range(p.name_range) || !(p == program_)) return false;
+    if (!same_moved(MaybeState{reachable_, reachable_ ? *A_ : ModalState{}}, f.flowing, m) ||
+        !same_moved(final_state_, f.final_state, m) || !same_moved_map(pending_offset_, old.pending_offset, m, true))
+        return false;
+    if (pending_name_.size() != f.pending_name.size()) return false;
+    for (const auto& [name, st] : f.pending_name) {
+        const auto it = pending_name_.find(name);
+        if (it == pending_name_.end() || !same_moved(it->second, st, m)) return false;
+    }
+    if (defs_.size() != f.defs.size()) return false;
+    for (const auto& [name, offsets] : f.defs) {
+        const auto it = defs_.find(name);
+        if (it == defs_.end() || it->second.size() != offsets.size()) return false;
+        for (size_t i = 0; i < offsets.size(); ++i) {
+            uint32_t o = offsets[i];
+            if (!m.block(o) || o != it->second[i]) return false;
+        }
+    }
+    if (filter_->used() != f.used || rules_.size() != f.rules.size()) return false;
+    if (fingerprints_ && !occurrences_.same_counts(*f.occurrences)) return false;  // the kept findings' fingerprints
+    for (size_t i = 0; i < rules_.size(); ++i) {
+        if (rules_[i]->meta().id != f.rules[i]->meta().id) return false;
+        const auto moved = moved_rule(*f.rules[i], m);
+        if (!moved || !rules_[i]->same_state(*moved)) return false;
+    }
+    // The findings kept from there on rest on the summaries of the file's own
+    // programs the previous analysis used: each must leave the same behind now.
+    for (const auto& [name, used] : old.summaries->used) {
+        const SubprogramSummary* now = local_summary(name);
+        if (!(now && used ? same_effect(*now, *used) : now == used)) return false;
+    }
+    return true;
+}
+
+// A checkpoint of the previous analysis after the one the walk ended at
+// (`f`, there `at` now), moved to this text (nullptr: it cannot be).
+std::shared_ptr<FrozenWalk> Walk::moved_frozen(const FrozenWalk& f2, const FrozenWalk& f, const FrozenWalk& at) const {
+    const LineEditMove& m = *edit_move_;
+    auto g = std::make_shared<FrozenWalk>();
+    g->config = f2.config;
+    g->only_rules = f2.only_rules;
+    g->run_rules = f2.run_rules;
+    g->program = f2.program;
+    g->offset = f2.offset;
+    if (!m.block(g->offset)) return nullptr;
+    g->line = f2.line;
+    g->diagnostics = f2.diagnostics - f.diagnostics + at.diagnostics;
+    g->suppressed = f2.suppressed - f.suppressed + at.suppressed;
+    // The findings kept point at no byte of the changed line.
+    uint32_t reach = f2.reach;
+    if (!m.block(reach)) reach = m.line_start;
+    g->reach = std::max(reach, at.reach);
+    g->local_used = summaries_union(f2.local_used, at.local_used);
+    g->seen_main = f2.seen_main;
+    g->subprogram = f2.subprogram;
+    g->program_info = f2.program_info;
+    if (!m.range(g->program_info.name_range)) return nullptr;
+    auto state = [&](const MaybeState& s, MaybeState& out) {
+        if (!s.reachable) {
+            out = s;
+            return true;
+        }
+        auto moved = moved_state(s, m);
+        if (!moved) return false;
+        out = std::move(*moved);
+        return true;
+    };
+    if (!state(f2.flowing, g->flowing) || !state(f2.final_state, g->final_state)) return nullptr;
+    for (const auto& [name, st] : f2.pending_name)
+        if (!state(st, g->pending_name[name])) return nullptr;
+    g->defs = f2.defs;
+    for (auto& [name, offsets] : g->defs)
+        for (uint32_t& o : offsets)
+            if (!m.block(o)) return nullptr;
+    for (const auto& r : f2.rules) {
+        auto moved = moved_rule(*r, m);
+        if (!moved) return nullptr;
+        g->rules.push_back(std::move(moved));
+    }
+    g->used = f2.used;
+    g->occurrences = f2.occurrences;
+    g->marks = f2.marks;
+    for (auto& [offset, line] : g->marks.offsets_and_lines) {
+        uint32_t o = static_cast<uint32_t>(offset);
+        if (!m.block(o)) return nullptr;
+        offset = o;
+    }
+    return g;
+}
+
+// Ends the walk at `old`: a checkpoint here, then the previous analysis's
+// checkpoints after `old`, moved; the caller keeps that analysis's findings
+// from `old` on.
+void Walk::converge_at(const WalkCheckpoint& old) {
+    take_checkpoint();
+    const Checkpoint here = options_.checkpoints->back();
+    const FrozenWalk& f = *old.frozen;
+    for (size_t i = ahead_next_; i < ahead_.size(); ++i) {
+        const WalkCheckpoint& c = *ahead_[i];
+        auto moved = std::make_shared<WalkCheckpoint>();
+        moved->outline = shared_outline_;
+        moved->summaries = walk_summaries_;
+        moved->frozen = moved_frozen(*c.frozen, f, *here->frozen);
+        bool ok = moved->frozen != nullptr;
+        for (const auto& [offset, st] : c.pending_offset) {
+            uint32_t o = offset;
+            MaybeState s = st;
+            if (st.reachable) {
+                auto m = moved_state(st, *edit_move_);
+                if (!m) ok = false;
+                else s = std::move(*m);
+            }
+            if (!ok || !edit_move_->block(o)) {
+                ok = false;
+                break;
+            }
+            moved->pending_offset.emplace(o, std::move(s));
+        }
+        if (!ok) break;
+        options_.checkpoints->push_back(std::move(moved));
+    }
+    *options_.converged = Convergence{checkpoint_place(*here), f.diagnostics, f.suppressed};
+    converged_ = true;
+    stop_ = true;
+    ++stats_.convergences;
+}
+
+// What WalkCheckpoint::summaries says of this analysis, once it ended.
+void Walk::finish_summaries() {
+    if (!walk_summaries_) return;
+    walk_summaries_->used = summaries_union(local_used_, walk_summaries_->used);
+    walk_summaries_->complete = true;
+}
+
 // The checkpoints of the previous analysis that are still valid for this
 // text, moved to it; the walk starts at the last of them. Returns whether it
 // does (false: from the start, with none of the old checkpoints).
@@ -279,6 +543,11 @@ bool Walk::resume_from_checkpoints() {
     std::vector<Checkpoint> old = std::move(*options_.checkpoints);
     options_.checkpoints->clear();
     if (!options_.checkpoint_every) return false;
+    // The summaries the findings kept from the previous analysis rest on.
+    for (const Checkpoint& c : old)
+        if (c->summaries && c->summaries != walk_summaries_ && walk_summaries_)
+            walk_summaries_->used = summaries_union(walk_summaries_->used, c->summaries->used);
+    find_ahead(old);
     const TextChange& e = options_.edit;
     for (const Checkpoint& c : old) {
         const FrozenWalk& f = *c->frozen;
@@ -298,6 +567,7 @@ bool Walk::resume_from_checkpoints() {
         auto moved_c = std::make_shared<WalkCheckpoint>();
         moved_c->outline = shared_outline_;
         moved_c->frozen = c->frozen;
+        moved_c->summaries = walk_summaries_;
         bool ok = true;
         for (const auto& [offset, state] : c->pending_offset) {
             const auto m = moved(offset, c->outline->size, e);

@@ -70,8 +70,11 @@ std::string Walk::run() {
     library_ = is_subprogram_file(path_);
 
     size_t first = 0;
-    if (options_.checkpoints && options_.checkpoint_every)
+    if (options_.converged) options_.converged->reset();
+    if (options_.checkpoints && options_.checkpoint_every) {
         shared_outline_ = std::make_shared<const FileOutline>(outline_);
+        walk_summaries_ = std::make_shared<LocalSummaries>();
+    }
     if (options_.checkpoints && resume_from_checkpoints()) {
         bool resumed = true;
         if (resume_in_loop_) {
@@ -95,6 +98,14 @@ std::string Walk::run() {
     // Written in place (same size) while it was read: the findings may be of neither text.
     if (error_.empty())
         if (std::string changed = src_.changed(); !changed.empty()) fail(std::move(changed));
+    if (converged_ && error_.empty()) {
+        // The rest, the findings at the end of the file included, is the previous analysis's.
+        finish_summaries();
+        sink_.end_file(path_, error_);
+        return error_;
+    }
+    if (options_.converged) options_.converged->reset();
+    if (error_.empty()) finish_summaries();
 
     // The findings that stand for the folded ones, then those about the directives.
     for (Diagnostic& d : folder_.finish([&](uint64_t, ByteRange r) { return positions_.range(r); }))
@@ -171,6 +182,8 @@ void Walk::walk_blocks() {
     Block& b = block_buf_;
     LineRef line;
     while (!stop_ && main_.next_offset() < flow_.end()) {
+        converge_if_due();
+        if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
         if (!read(b, line)) break;
         uint32_t extent = 0;
@@ -182,6 +195,7 @@ void Walk::walk_blocks() {
 void Walk::end_program_walk() {
     positions_.clear_current();
     block_ = nullptr;
+    if (converged_) return;  // the previous analysis made the findings from there on
     if (error_.empty() && !(stop_ && options_.observer)) {
         program_.end_block = main_.next_line() - 1;
         ProgramView pv{program_, subprogram_, final_state_.reachable ? &final_state_.state : nullptr};

@@ -93,6 +93,12 @@ struct CheckpointPlace {
     uint64_t suppressed = 0;
 };
 CheckpointPlace checkpoint_place(const WalkCheckpoint& c);
+// Where an analysis after an edit ended early (EngineOptions::converged).
+struct Convergence {
+    CheckpointPlace at;            // in the new text, with the findings made before it
+    uint64_t old_diagnostics = 0;  // the findings the previous analysis had made before it
+    uint64_t old_suppressed = 0;
+};
 
 // What changed between the text a checkpoint was taken in and the text now:
 // the bytes before `prefix` are the same, and so are the last `suffix` bytes
@@ -109,7 +115,42 @@ struct TextChange {
     // the new text is then the old one moved (moved_outline).
     bool plain_line = false;
     uint32_t line_start = 0;
+    // When the change lies inside one line that a break ends, in both texts
+    // (no line break replaced or written): where the line after it starts in
+    // the text before the change (line_start is set too). 0 otherwise.
+    uint32_t next_line = 0;
 };
+// Offsets and ranges of the text before a change inside one line
+// (TextChange::next_line), in the text after it: those before the changed
+// line stay, those from the next line on move by the change's byte count. The
+// changed line's own (its columns and its text changed) cannot be moved: the
+// functions return false for them. Line numbers are the same in both texts.
+struct LineEditMove {
+    uint32_t line_start = 0;
+    uint32_t next_line = 0;
+    int64_t bytes = 0;
+    // The start of a block (the changed line's start stays).
+    bool block(uint32_t& offset) const {
+        if (offset <= line_start) return true;
+        if (offset < next_line) return false;
+        offset = static_cast<uint32_t>(static_cast<int64_t>(offset) + bytes);
+        return true;
+    }
+    bool range(ByteRange& r) const {
+        if (r.begin == 0 && r.end == 0) return true;  // no range
+        if (r.begin >= line_start && r.begin < next_line) return false;
+        if (r.end > line_start && r.end < next_line) return false;
+        if (r.begin >= next_line) r.begin = static_cast<uint32_t>(static_cast<int64_t>(r.begin) + bytes);
+        if (r.end >= next_line) r.end = static_cast<uint32_t>(static_cast<int64_t>(r.end) + bytes);
+        return true;
+    }
+};
+// The move of a change inside one line; nullopt for any other change.
+std::optional<LineEditMove> line_edit_move(const TextChange& e);
+// A finding of the text before such a change, in the text after it (its
+// range, its notes', its fixes' and its folded range): false when one of
+// them is on the changed line.
+bool move_diagnostic(Diagnostic& d, const LineEditMove& m);
 // The change from `before` to `after` (never splitting a CR LF).
 TextChange text_change(std::string_view before, std::string_view after);
 // The outline of the text before `e` (`old`), moved to the text after it,
@@ -148,6 +189,13 @@ struct EngineOptions {
     std::vector<Checkpoint>* checkpoints = nullptr;
     TextChange edit;
     std::optional<CheckpointPlace>* resumed_at = nullptr;
+    // When the edit lay inside one line, the walk ends early where its state
+    // is again the one the previous analysis had at one of its checkpoints
+    // (moved by the edit); it then sets `converged` (the caller keeps the
+    // findings that analysis made from that checkpoint on, moved with
+    // move_diagnostic, after the new ones). The checkpoints of that analysis
+    // after it are moved to the new text and kept.
+    std::optional<Convergence>* converged = nullptr;
     // What the user subprograms that CALLs reach leave behind
     // (engine/summaries.h); nullptr: each is taken to leave the modes as they were.
     SubprogramSummaries* summaries = nullptr;
@@ -173,6 +221,7 @@ struct EngineStats {
     uint64_t label_misses = 0;         // has_label asked for a name the walk did not keep (should stay 0)
     uint64_t loop_resumes = 0;         // analyses resumed at a checkpoint inside a loop
     uint64_t loop_resume_misses = 0;   // ... that found the loop's states changed and started before it
+    uint64_t convergences = 0;         // analyses after an edit that ended early (EngineOptions::converged)
 };
 
 inline constexpr std::string_view kCancelled = "cancelled";

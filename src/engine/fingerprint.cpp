@@ -78,6 +78,20 @@ bool OccurrenceCounter::insert(uint64_t key) {
     }
 }
 
+bool OccurrenceCounter::same_counts(const OccurrenceCounter& o) const {
+    if (used_ != o.used_ || repeats_ != o.repeats_) return false;
+    if (used_ == 0) return true;
+    const size_t mask = o.slots_.size() - 1;
+    for (uint64_t key : slots_) {
+        if (!key) continue;
+        for (size_t i = static_cast<size_t>(key * 0x9E3779B97F4A7C15ull) & mask;; i = (i + 1) & mask) {
+            if (o.slots_[i] == key) break;
+            if (o.slots_[i] == 0) return false;
+        }
+    }
+    return true;
+}
+
 int OccurrenceCounter::next(uint64_t key) {
     if (insert(key)) return 1;
     int& n = repeats_[key];

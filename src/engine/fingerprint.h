@@ -38,6 +38,8 @@ public:
     int next(std::string_view rule, std::string_view program, std::string_view block_text);
     // The same by fingerprint_key.
     int next(uint64_t key);
+    // Whether `o` counted the same keys as often (in whatever order).
+    bool same_counts(const OccurrenceCounter& o) const;
     void clear() {
         slots_.clear();
         used_ = 0;

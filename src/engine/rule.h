@@ -8,6 +8,7 @@
 // program order. Rules never walk the program themselves.
 #pragma once
 
+#include <concepts>
 #include <memory>
 #include <optional>
 #include <string>
@@ -18,6 +19,7 @@
 #include "semantics/calls.h"
 #include "semantics/config.h"
 #include "semantics/modal.h"
+#include "support/function_ref.h"
 #include "syntax/model.h"
 
 namespace osplint {
@@ -186,6 +188,18 @@ public:
     // A copy of the rule with its state (the engine's checkpoints, from which
     // the language server re-analyses a document after an edit).
     virtual std::unique_ptr<Rule> clone() const = 0;
+    // For the language server's edits, which end a walk where its state is
+    // again the previous analysis's (engine/checkpoints.cpp): whether this
+    // rule's state equals `other`'s (a rule of the same class), and moving
+    // each byte range the state holds to an edited text (`move` returns false
+    // for a range it cannot move; so does this, then). A rule that keeps
+    // state of its own compares all of it in `bool same_as(const Self&)
+    // const` and lists its ranges in `bool each_range(move)`; without
+    // same_as it never compares equal.
+    virtual bool same_state(const Rule& other) const = 0;
+    virtual bool move_ranges(FunctionRef<bool(ByteRange&)> move) = 0;
+    // Whether same_state can hold: the rule keeps no state of its own, or compares it.
+    virtual bool compares_state() const = 0;
 
 protected:
     void set_wants_plain_moves(bool wanted) { wants_plain_moves_ = wanted; }
@@ -199,6 +213,22 @@ template <class Self>
 class RuleBase : public Rule {
 public:
     std::unique_ptr<Rule> clone() const override { return std::make_unique<Self>(static_cast<const Self&>(*this)); }
+    bool same_state(const Rule& other) const override {
+        if (wants_plain_moves() != other.wants_plain_moves()) return false;
+        if constexpr (sizeof(Self) == sizeof(RuleBase<Self>)) return true;  // no state of its own
+        else if constexpr (requires(const Self& a) { { a.same_as(a) } -> std::same_as<bool>; })
+            return static_cast<const Self&>(*this).same_as(static_cast<const Self&>(other));
+        else
+            return false;
+    }
+    bool compares_state() const override {
+        return sizeof(Self) == sizeof(RuleBase<Self>) ||
+               requires(const Self& a) { { a.same_as(a) } -> std::same_as<bool>; };
+    }
+    bool move_ranges(FunctionRef<bool(ByteRange&)> move) override {
+        if constexpr (requires(Self& s) { s.each_range(move); }) return static_cast<Self*>(this)->each_range(move);
+        else return true;
+    }
 };
 
 // The rules an engine runs: their metadata and fresh instances. The rules

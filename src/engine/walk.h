@@ -89,6 +89,13 @@ struct SweepState {
 
 
 
+// The summaries of the file's own programs an analysis used, by name
+// (WalkCheckpoint::summaries); `complete` once the analysis ended.
+struct LocalSummaries {
+    std::vector<std::pair<std::string, const SubprogramSummary*>> used;
+    bool complete = false;
+};
+
 // What a checkpoint holds that no later edit changes.
 struct FrozenWalk {
     const Config* config = nullptr;
@@ -152,6 +159,11 @@ struct WalkCheckpoint {
     // each, and the change): its offsets are moved to the text now only when
     // the walk resumes there.
     std::vector<std::pair<uint64_t, TextChange>> loop_moves;
+    // The summaries of the file's own programs that the findings of the
+    // analysis it belongs to rest on, by name (filled when that analysis
+    // ends): a later analysis that ends early here keeps those findings only
+    // when each summary leaves the same behind in its text.
+    std::shared_ptr<LocalSummaries> summaries;
 };
 
 
@@ -313,6 +325,23 @@ private:
         final_state_.merge(s);
         if (bringing_) brought_final_.merge(s);
     }
+    // --- ending early after an edit inside one line (EngineOptions::converged)
+    std::optional<LineEditMove> edit_move_;
+    std::vector<Checkpoint> ahead_;  // the previous analysis's top-level checkpoints after the edit
+    size_t ahead_next_ = 0;
+    std::shared_ptr<LocalSummaries> walk_summaries_;  // WalkCheckpoint::summaries of this analysis
+    bool converged_ = false;
+    void find_ahead(const std::vector<Checkpoint>& old);
+    bool same_as_moved(const WalkCheckpoint& old) const;
+    // A checkpoint after `f` (where the walk ended, there `at` now), moved.
+    std::shared_ptr<FrozenWalk> moved_frozen(const FrozenWalk& f2, const FrozenWalk& f, const FrozenWalk& at) const;
+    void converge_at(const WalkCheckpoint& old);
+    void converge_if_due() {
+        if (ahead_next_ < ahead_.size() && main_.next_offset() >= ahead_offset_) try_converge();
+    }
+    uint64_t ahead_offset_ = 0;  // of ahead_[ahead_next_] in the text now
+    void try_converge();
+    void finish_summaries();
     uint64_t delivered_diagnostics_ = 0;
     uint64_t delivered_suppressed_ = 0;
     uint32_t delivered_reach_ = 0;

@@ -602,17 +602,45 @@ void Server::update_model(Model& m, Job& job) {
     opts.edit = edit;
     std::optional<CheckpointPlace> resumed_at;
     opts.resumed_at = &resumed_at;
+    std::optional<Convergence> converged;
+    opts.converged = &converged;
     MemorySource src(m.doc.text());
-    if (check_source(m.doc.path, src, *m.config, opts, produced) == kCancelled) {
-        m.version = -1;  // half analysed: the analysis of the newer text follows
-        m.checkpoints.clear();
-        m.produced.clear();
-        throw Outdated{};
+    auto analyse = [&] {
+        if (check_source(m.doc.path, src, *m.config, opts, produced) == kCancelled) {
+            m.version = -1;  // half analysed: the analysis of the newer text follows
+            m.checkpoints.clear();
+            m.produced.clear();
+            throw Outdated{};
+        }
+    };
+    analyse();
+    // Where the analysis ended early, the previous findings from there on
+    // stand, moved by the edit.
+    std::vector<Diagnostic> kept;
+    if (converged) {
+        const auto move = line_edit_move(edit);
+        bool ok = move && converged->old_diagnostics <= m.produced.size();
+        for (size_t i = ok ? converged->old_diagnostics : m.produced.size(); ok && i < m.produced.size(); ++i) {
+            kept.push_back(std::move(m.produced[i]));
+            ok = move_diagnostic(kept.back(), *move);
+        }
+        if (!ok) {  // not expected: the whole text again, from no checkpoint
+            log(job.uri + ": the findings after an early end could not be moved; analysing the whole text");
+            kept.clear();
+            m.checkpoints.clear();
+            m.produced.clear();
+            produced.out.clear();
+            opts.edit = TextChange{};
+            analyse();
+            resumed_at.reset();
+            converged.reset();
+        }
     }
     // The findings made before the checkpoint the analysis started at stand.
     if (resumed_at) m.produced.resize(std::min<size_t>(m.produced.size(), resumed_at->diagnostics));
     else m.produced.clear();
     for (auto& d : produced.out) m.produced.push_back(std::move(d));
+    for (auto& d : kept) m.produced.push_back(std::move(d));
     m.diagnostics = m.produced;
     std::stable_sort(m.diagnostics.begin(), m.diagnostics.end(), diagnostic_less);
     {
@@ -626,7 +654,8 @@ void Server::update_model(Model& m, Job& job) {
         const auto t1 = Clock::now();
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
         log(job.uri + " v" + std::to_string(job.version) + ": analysed in " + std::to_string(ms(t0, t1)) + " ms" +
-            (resumed_at ? " from line " + std::to_string(resumed_at->line) : std::string(" from the start")) + ", " +
+            (resumed_at ? " from line " + std::to_string(resumed_at->line) : std::string(" from the start")) +
+            (converged ? " to line " + std::to_string(converged->at.line) : std::string()) + ", " +
             std::to_string(m.diagnostics.size()) + " finding(s)");
     }
 }

@@ -223,6 +223,17 @@ struct ModalState {
         f(cycle_from);
         f(modin_from);
     }
+    // Calls `f` on every byte range the state holds (the origins, where the
+    // fixed cycle started); stops at the first for which it returns false,
+    // and returns whether there was none.
+    template <class F>
+    bool each_range(F&& f) {
+        bool ok = true;
+        each_origin([&](auto& o) { ok = ok && f(o.origin.range) && f(o.origin.via_range); });
+        if (ok && cycle.value) ok = f(cycle.value->start_range);
+        if (ok && uncancelled.value) ok = f(uncancelled.value->start);
+        return ok;
+    }
     friend bool operator==(const ModalState&, const ModalState&) = default;
 
     Val<double> axis(char a) const {

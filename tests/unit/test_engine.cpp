@@ -684,6 +684,7 @@ struct Resumed {
     int in_loops = 0;  // ... inside a loop
     int misses = 0;    // ... inside a loop whose states had changed, then before it
     int outlines_moved = 0;  // the outline of the edited text made by moving the old one
+    int converged = 0;       // ended early, at a checkpoint of the analysis before
 };
 
 Resumed resumed_edits(size_t held, uint32_t seed_rng) {
@@ -717,10 +718,13 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
             o.edit = text_change(text, edited);
             std::optional<CheckpointPlace> at;
             o.resumed_at = &at;
+            std::optional<Convergence> converged;
+            o.converged = &converged;
             EngineStats stats;
             o.stats = &stats;
             MemorySource src(edited);
-            // The findings made before the checkpoint are kept by the caller.
+            // The findings made before the checkpoint are kept by the caller,
+            // and so are those after the one the analysis ended at, moved.
             InOrder fresh_part;
             check_source(path.string(), src, config, o, fresh_part);
             std::vector<Diagnostic> d;
@@ -731,19 +735,41 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
                 s.assign(previous.suppressed_list.begin(),
                          previous.suppressed_list.begin() + static_cast<long>(at->suppressed));
             }
+            std::vector<Diagnostic> kept;
+            std::vector<SuppressedDiagnostic> kept_suppressed;
+            if (converged) {
+                ++r.converged;
+                CHECK(stats.convergences == 1);
+                const auto move = line_edit_move(o.edit);
+                REQUIRE(move);
+                REQUIRE(converged->old_diagnostics <= previous.diagnostics.size());
+                REQUIRE(converged->old_suppressed <= previous.suppressed_list.size());
+                for (size_t i = converged->old_diagnostics; i < previous.diagnostics.size(); ++i) {
+                    kept.push_back(previous.diagnostics[i]);
+                    CHECK(move_diagnostic(kept.back(), *move));
+                }
+                for (size_t i = converged->old_suppressed; i < previous.suppressed_list.size(); ++i) {
+                    kept_suppressed.push_back(previous.suppressed_list[i]);
+                    CHECK(move_diagnostic(kept_suppressed.back().diagnostic, *move));
+                    if (kept_suppressed.back().directive) CHECK(move->range(kept_suppressed.back().directive->bytes));
+                }
+            }
             r.in_loops += static_cast<int>(stats.loop_resumes);
             r.misses += static_cast<int>(stats.loop_resume_misses);
             r.outlines_moved += static_cast<int>(stats.outlines_moved);
             for (auto& x : fresh_part.diagnostics) d.push_back(x);
             for (auto& x : fresh_part.suppressed_list) s.push_back(x);
+            for (auto& x : kept) d.push_back(x);
+            for (auto& x : kept_suppressed) s.push_back(x);
             const std::string got = dump_result(sorted(path.string(), d, s));
             AnalysisOptions fresh;
             fresh.held_loop_blocks = held;
             const std::string expected = dump_result(check_text(path.string(), edited, config, fresh));
             ++r.runs;
             if (got != expected) {
-                FAIL_CHECK(path.string() << " edit " << k << (at ? " (resumed)" : "")
-                                         << (stats.loop_resumes ? " (inside a loop)" : "") << "\n-- fresh:\n"
+                FAIL_CHECK(path.string() << " edit " << k << std::string(at ? " (resumed)" : "")
+                                         << std::string(converged ? " (ended early)" : "")
+                                         << std::string(stats.loop_resumes ? " (inside a loop)" : "") << "\n-- fresh:\n"
                                          << expected << "-- resumed:\n"
                                          << got << "-- text:\n"
                                          << edited);
@@ -762,9 +788,10 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
 TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh analysis gives") {
     const Resumed r = resumed_edits(8192, 5150);
     MESSAGE(r.resumed << " of " << r.runs << " analyses resumed from a checkpoint, " << r.outlines_moved
-                      << " with the old outline moved");
+                      << " with the old outline moved, " << r.converged << " ended early");
     CHECK(r.resumed > r.runs / 4);
     CHECK(r.outlines_moved > r.runs / 10);
+    CHECK(r.converged > r.runs / 10);
 }
 
 TEST_CASE("engine: an edit inside a loop read again is analysed from a checkpoint inside it, as a fresh analysis") {
@@ -815,6 +842,65 @@ TEST_CASE("engine: an edit of the file's own subprogram reaches the states after
     // CALL (the finding before the checkpoint is the caller's to keep).
     run(comment, &leaves_g91, resumed);
     CHECK(resumed);
+}
+
+TEST_CASE("engine: an analysis after an edit ends early only where the subprograms the rest calls leave the same behind") {
+    SubprogramDirectories dirs;
+    SubprogramSummaries summaries(builtin_rules(), dirs);
+    // O100 is edited; O200, after it, calls it and then OKYLX, which G91 breaks.
+    std::string text = "O1000\nG90 G17 G21\nG0 X0 Y0 Z50.\nM30\nO100\nG0 X1.\nRTS\nO200\nG90\n";
+    for (int i = 0; i < 200; ++i) text += "G0 X" + std::to_string(i) + ".\n";
+    text += "CALL O100\nCALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nRTS\n";
+    const std::string keeps = text;
+    std::string leaves_g91 = text;
+    leaves_g91.replace(leaves_g91.find("G0 X1.\nRTS"), 6, "G91 X1");
+    std::string comment = leaves_g91;
+    comment.replace(comment.find("G91 X1"), 6, "G91 X1 (SHIFT)");
+    std::vector<Checkpoint> checkpoints;
+    std::vector<Diagnostic> previous;
+    // The findings of `text` analysed after `before` (resumed, and ended
+    // early where it can), as the language server keeps them.
+    auto run = [&](const std::string& now, const std::string* before, bool& ended_early) {
+        AnalysisOptions o;
+        o.summaries = &summaries;
+        o.checkpoint_every = 64;
+        o.checkpoints = &checkpoints;
+        std::optional<CheckpointPlace> at;
+        std::optional<Convergence> converged;
+        if (before) {
+            o.edit = text_change(*before, now);
+            o.resumed_at = &at;
+            o.converged = &converged;
+        }
+        MemorySource src(now);
+        InOrder sink;
+        check_source("/nonexistent-dir/own.min", src, Config{}, o, sink);
+        std::vector<Diagnostic> all(previous.begin(), previous.begin() + static_cast<long>(at ? at->diagnostics : 0));
+        for (auto& d : sink.diagnostics) all.push_back(d);
+        ended_early = converged.has_value();
+        if (converged) {
+            const auto move = line_edit_move(o.edit);
+            REQUIRE(move);
+            for (size_t i = converged->old_diagnostics; i < previous.size(); ++i) {
+                all.push_back(previous[i]);
+                REQUIRE(move_diagnostic(all.back(), *move));
+            }
+        }
+        previous = all;
+        size_t n = 0;
+        for (const auto& d : all) n += d.rule == "OSP109";
+        return n;
+    };
+    bool early = false;
+    CHECK(run(keeps, nullptr, early) == 0);
+    // O100 now leaves G91: the state at every checkpoint of O200 is the one
+    // before, but the CALL after them reaches a subprogram that leaves
+    // something else behind: the walk goes on to it.
+    CHECK(run(leaves_g91, &keeps, early) == 1);
+    CHECK_FALSE(early);
+    // A comment in O100: it leaves the same behind, the walk ends early in O200.
+    CHECK(run(comment, &leaves_g91, early) == 1);
+    CHECK(early);
 }
 
 TEST_CASE("may findings: a mode some paths bring, at the severity of [analysis] may-findings") {

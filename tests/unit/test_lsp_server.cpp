@@ -3,10 +3,12 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <random>
 #include <thread>
 
@@ -617,4 +619,62 @@ TEST_CASE("lsp: an edit during a long analysis stops it; requests that waited ar
     for (const auto& m : s.seen())
         if (m.value("method", "") == "textDocument/publishDiagnostics") CHECK(m["params"]["version"] == 2);
     MESSAGE("analyses stopped: " << cancelled.load());
+}
+
+TEST_CASE("lsp: one-character edits of a large document end early and publish what a fresh analysis does") {
+    // About 400 KB: the checkpoints are 64 KiB apart, the edits are far
+    // before the last ones; a finding on every 50th line (OZAGR without PI).
+    std::string text = "O1\nG90 G17\nG0 X0 Y0 Z50.\n";
+    for (int i = 0; i < 16000; ++i) {
+        if (i % 50 == 7) text += "CALL OZAGR PX=" + std::to_string(i % 90) + ". PY=-20. PR=5. PZ=-29. PF=50 PS=600\n";
+        else text += "G1 X" + std::to_string(i % 97) + ". Y" + std::to_string(i % 13) + ". F300\n";
+    }
+    text += "M30\n";
+    std::vector<std::string> logs;
+    std::mutex logs_m;
+    ServerOptions options = Session::quiet();
+    options.log_timing = true;
+    options.log = [&](const std::string& m) {
+        std::lock_guard lock(logs_m);
+        logs.push_back(m);
+    };
+    Session s(options);
+    s.initialize(true);
+    s.open(kUri, text, 1);
+    CHECK(s.diagnostics(kUri, 1)["diagnostics"].size() == 16000 / 50);
+    std::mt19937 rng(77);
+    for (int v = 2; v < 12; ++v) {
+        // A digit typed, or one deleted, on a line in the first half; every
+        // third edit breaks a call (PI given: its finding goes) or mends it.
+        const uint32_t line = 3 + static_cast<uint32_t>(rng() % 8000);
+        size_t start = 0;
+        for (uint32_t l = 0; l < line; ++l) start = text.find('\n', start) + 1;
+        const size_t end = text.find('\n', start);
+        const std::string old_line = text.substr(start, end - start);
+        std::string new_line = old_line;
+        if (old_line.rfind("CALL", 0) == 0) new_line += " PI=6.";
+        else if (v % 2) new_line.insert(new_line.find('X') + 1, "1");
+        else new_line.erase(new_line.find('X') + 1, 1);
+        text.replace(start, end - start, new_line);
+        s.change(kUri, v, json::array({{{"range", range(line, 0, line, static_cast<uint32_t>(old_line.size()))},
+                                        {"text", new_line}}}));
+        // The document version the fixes are for aside.
+        auto unversioned = [](json d) {
+            for (auto& x : d)
+                if (x.contains("data")) x["data"].erase("version");
+            return d;
+        };
+        const json got = unversioned(s.diagnostics(kUri, v)["diagnostics"]);
+        const std::string fresh_uri = "untitled:FRESH" + std::to_string(v) + ".MIN";
+        s.open(fresh_uri, text, 1);
+        const json expected = unversioned(s.diagnostics(fresh_uri, 1)["diagnostics"]);
+        CHECK(got.size() == expected.size());
+        CHECK(got == expected);
+        s.notify("textDocument/didClose", {{"textDocument", {{"uri", fresh_uri}}}});
+    }
+    std::lock_guard lock(logs_m);
+    const auto early = std::count_if(logs.begin(), logs.end(), [](const std::string& m) {
+        return m.find(kUri) == 0 && m.find(" to line ") != std::string::npos;
+    });
+    CHECK(early >= 5);
 }

@@ -101,3 +101,12 @@ TEST_CASE("retired rule IDs: a renamed one still names its rule, a removed one i
         CHECK(notes[0].message.find("'OSP199' is a retired name of OSP104") != std::string::npos);
     }
 }
+
+TEST_CASE("rules: every rule that keeps state of its own compares it (an analysis after an edit may then end early)") {
+    for (const auto& r : builtin_rules().make_all()) {
+        INFO(r->meta().id);
+        CHECK(r->compares_state());
+        const auto copy = r->clone();
+        CHECK(r->same_state(*copy));
+    }
+}
