@@ -316,14 +316,13 @@ bool same_moved(const MaybeState& now, const MaybeState& old, const LineEditMove
     return moved && moved->state == now.state;
 }
 
-template <class Key>
-bool same_moved_map(const std::map<Key, MaybeState>& now, const std::map<Key, MaybeState>& old, const LineEditMove& m,
-                    bool keys_are_blocks) {
+// Two maps of states by block offset, the old one's keys and states moved.
+bool same_moved_map(const std::map<uint32_t, MaybeState>& now, const std::map<uint32_t, MaybeState>& old,
+                    const LineEditMove& m) {
     if (now.size() != old.size()) return false;
     for (const auto& [k, v] : old) {
-        Key key = k;
-        if constexpr (std::is_same_v<Key, uint32_t>)
-            if (keys_are_blocks && !m.block(key)) return false;
+        uint32_t key = k;
+        if (!m.block(key)) return false;
         const auto it = now.find(key);
         if (it == now.end() || !same_moved(it->second, v, m)) return false;
     }
@@ -404,7 +403,7 @@ bool Walk::same_as_moved(const WalkCheckpoint& old) const {
     Program p = f.program_info;
     if (!m.range(p.name_range) || !(p == program_)) return false;
     if (!same_moved(MaybeState{reachable_, reachable_ ? *A_ : ModalState{}}, f.flowing, m) ||
-        !same_moved(final_state_, f.final_state, m) || !same_moved_map(pending_offset_, old.pending_offset, m, true))
+        !same_moved(final_state_, f.final_state, m) || !same_moved_map(pending_offset_, old.pending_offset, m))
         return false;
     if (pending_name_.size() != f.pending_name.size()) return false;
     for (const auto& [name, st] : f.pending_name) {
@@ -460,14 +459,9 @@ std::shared_ptr<FrozenWalk> Walk::moved_frozen(const FrozenWalk& f2, const Froze
     g->program_info = f2.program_info;
     if (!m.range(g->program_info.name_range)) return nullptr;
     auto state = [&](const MaybeState& s, MaybeState& out) {
-        if (!s.reachable) {
-            out = s;
-            return true;
-        }
         auto moved = moved_state(s, m);
-        if (!moved) return false;
-        out = std::move(*moved);
-        return true;
+        if (moved) out = std::move(*moved);
+        return moved.has_value();
     };
     if (!state(f2.flowing, g->flowing) || !state(f2.final_state, g->final_state)) return nullptr;
     for (const auto& [name, st] : f2.pending_name)
@@ -506,19 +500,11 @@ void Walk::converge_at(const WalkCheckpoint& old) {
         moved->summaries = walk_summaries_;
         moved->frozen = moved_frozen(*c.frozen, f, *here->frozen);
         bool ok = moved->frozen != nullptr;
-        for (const auto& [offset, st] : c.pending_offset) {
-            uint32_t o = offset;
-            MaybeState s = st;
-            if (st.reachable) {
-                auto m = moved_state(st, *edit_move_);
-                if (!m) ok = false;
-                else s = std::move(*m);
-            }
-            if (!ok || !edit_move_->block(o)) {
-                ok = false;
-                break;
-            }
-            moved->pending_offset.emplace(o, std::move(s));
+        for (auto it = c.pending_offset.begin(); ok && it != c.pending_offset.end(); ++it) {
+            uint32_t o = it->first;
+            auto s = moved_state(it->second, *edit_move_);
+            ok = s && edit_move_->block(o);
+            if (ok) moved->pending_offset.emplace(o, std::move(*s));
         }
         if (!ok) break;
         options_.checkpoints->push_back(std::move(moved));
@@ -544,9 +530,12 @@ bool Walk::resume_from_checkpoints() {
     options_.checkpoints->clear();
     if (!options_.checkpoint_every) return false;
     // The summaries the findings kept from the previous analysis rest on.
+    const LocalSummaries* merged = nullptr;  // the checkpoints of one analysis share theirs
     for (const Checkpoint& c : old)
-        if (c->summaries && c->summaries != walk_summaries_ && walk_summaries_)
+        if (walk_summaries_ && c->summaries && c->summaries.get() != merged) {
             walk_summaries_->used = summaries_union(walk_summaries_->used, c->summaries->used);
+            merged = c->summaries.get();
+        }
     find_ahead(old);
     const TextChange& e = options_.edit;
     for (const Checkpoint& c : old) {
