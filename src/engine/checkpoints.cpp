@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 #include "engine/summaries.h"
@@ -179,42 +180,96 @@ std::optional<uint32_t> moved(uint32_t offset, uint64_t old_size, const TextChan
     return std::nullopt;
 }
 
-// A map by offset in the old text, by offset in the text now (false: a key
-// was in the part that was replaced).
-template <class V>
-bool move_keys(const std::map<uint32_t, V>& in, std::map<uint32_t, V>& out, uint64_t old_size, const TextChange& e) {
-    out.clear();
-    for (const auto& [k, v] : in) {
-        const auto m = moved(k, old_size, e);
-        if (!m) return false;
-        out.emplace_hint(out.end(), *m, v);
+// How the offsets of a checkpoint inside a loop are moved through a change
+// of the text: KeysMove moves its blocks only (a checkpoint before the change,
+// whose states the walk resumed there reads only where they are the same as
+// the new text's: resume_loop); LineMove, for a change inside one line after
+// the checkpoint, moves the byte ranges its states hold too (LineEditMove: a
+// range on that line cannot be moved).
+struct KeysMove {
+    static constexpr bool kRanges = false;
+    uint64_t old_size = 0;
+    TextChange e;
+    bool block(uint32_t& o) const {
+        const auto m = moved(o, old_size, e);
+        if (m) o = *m;
+        return m.has_value();
     }
+    bool range(ByteRange&) const { return true; }
+};
+struct LineMove {
+    static constexpr bool kRanges = true;
+    const LineEditMove& m;
+    bool block(uint32_t& o) const { return m.block(o); }
+    bool range(ByteRange& r) const { return m.range(r); }
+};
+
+template <class Mover>
+bool move_state(MaybeState& s, const Mover& mv) {
+    if constexpr (Mover::kRanges) return !s.reachable || s.state.each_range([&](ByteRange& r) { return mv.range(r); });
     return true;
 }
 
-std::shared_ptr<const SweepState> move_sweep(const SweepState& in, uint64_t old_size, const TextChange& e) {
+// A map by offset (of states or not), its keys and states moved.
+template <class V, class Mover>
+bool move_map(std::map<uint32_t, V>& x, const Mover& mv) {
+    std::map<uint32_t, V> out;
+    for (auto& [k, v] : x) {
+        uint32_t o = k;
+        if (!mv.block(o)) return false;
+        if constexpr (std::is_same_v<V, MaybeState>)
+            if (!move_state(v, mv)) return false;
+        out.emplace_hint(out.end(), o, std::move(v));
+    }
+    x = std::move(out);
+    return true;
+}
+
+template <class Mover>
+bool move_names(std::unordered_map<std::string, MaybeState>& x, const Mover& mv) {
+    if constexpr (Mover::kRanges)
+        for (auto& [name, s] : x)
+            if (!move_state(s, mv)) return false;
+    return true;
+}
+
+template <class Mover>
+bool move_defs(std::unordered_map<std::string, std::vector<uint32_t>>& defs, const Mover& mv) {
+    for (auto& [name, offsets] : defs)
+        for (uint32_t& o : offsets)
+            if (!mv.block(o)) return false;
+    return true;
+}
+
+template <class Mover>
+std::shared_ptr<const SweepState> move_sweep(const SweepState& in, const Mover& mv) {
     auto out = std::make_shared<SweepState>(in);
-    if (!move_keys(in.join, out->join, old_size, e) || !move_keys(in.pending_offset, out->pending_offset, old_size, e) ||
-        !move_keys(in.probes, out->probes, old_size, e) || !move_keys(in.join_stamps, out->join_stamps, old_size, e))
+    if (!move_state(out->flowing, mv) || !move_map(out->join, mv) || !move_names(out->pending_name, mv) ||
+        !move_map(out->pending_offset, mv) || !move_defs(out->defs, mv) || !move_state(out->final_state, mv) ||
+        !move_map(out->probes, mv) || !move_map(out->join_stamps, mv) || !mv.block(out->extent) ||
+        !mv.block(out->next))
         return nullptr;
-    for (auto& [name, offsets] : out->defs)
-        for (uint32_t& o : offsets) {
-            const auto m = moved(o, old_size, e);
-            if (!m) return nullptr;
-            o = *m;
-        }
-    const auto extent = moved(in.extent, old_size, e);
-    if (!extent) return nullptr;
-    out->extent = *extent;
     return out;
 }
 
-std::shared_ptr<const LoopCheckpoint> move_loop(const LoopCheckpoint& in, uint64_t old_size, const TextChange& e) {
+// `sweeps` (when set) keeps the sweeps moved so far by what they were: the
+// checkpoints of one loop share the states its first sweep left.
+template <class Mover>
+std::shared_ptr<const LoopCheckpoint> move_loop(
+    const LoopCheckpoint& in, const Mover& mv,
+    std::map<const SweepState*, std::shared_ptr<const SweepState>>* sweeps = nullptr) {
     auto out = std::make_shared<LoopCheckpoint>(in);
-    out->first = move_sweep(*in.first, old_size, e);
-    out->after_first = move_sweep(*in.after_first, old_size, e);
-    if (!out->first || !out->after_first || !move_keys(in.join, out->join, old_size, e) ||
-        !move_keys(in.brought_offset, out->brought_offset, old_size, e))
+    out->first = move_sweep(*in.first, mv);
+    if (sweeps) {
+        auto& s = (*sweeps)[in.after_first.get()];
+        if (!s) s = move_sweep(*in.after_first, mv);
+        out->after_first = s;
+    } else {
+        out->after_first = move_sweep(*in.after_first, mv);
+    }
+    if (!out->first || !out->after_first || !mv.block(out->head) || !move_state(out->entry, mv) ||
+        !move_map(out->join, mv) || !move_names(out->brought_name, mv) || !move_map(out->brought_offset, mv) ||
+        !move_state(out->brought_final, mv))
         return nullptr;
     return out;
 }
@@ -347,17 +402,21 @@ std::vector<std::pair<std::string, const SubprogramSummary*>> summaries_union(
 
 }  // namespace
 
-// The previous analysis's checkpoints at the top level after the changed
-// line, when the walk may end at one of them (EngineOptions::converged).
+// The previous analysis's checkpoints after the changed line, when the walk
+// may end at one of them (EngineOptions::converged).
 void Walk::find_ahead(const std::vector<Checkpoint>& old) {
     ahead_.clear();
+    ahead_at_.clear();
+    ahead_loops_.clear();
+    moved_sweeps_.clear();
     ahead_next_ = 0;
     edit_move_ = line_edit_move(options_.edit);
     if (!edit_move_ || !options_.converged || options_.observer || folder_.enabled() || !walk_summaries_) return;
     const FileOutline* same = nullptr;  // the outline found the same as this text's, moved
     for (const Checkpoint& c : old) {
         const FrozenWalk& f = *c->frozen;
-        if (c->loop || !c->outline || !c->summaries || !c->summaries->complete || f.offset < edit_move_->next_line ||
+        if (!c->outline || !c->summaries || !c->summaries->complete || f.offset < edit_move_->next_line ||
+            (c->loop && !c->loop_exact) ||
             f.config != &config_ || f.only_rules != options_.only_rules || f.run_rules != options_.run_rules ||
             f.folder || f.occurrences.has_value() != fingerprints_)
             continue;
@@ -367,32 +426,145 @@ void Walk::find_ahead(const std::vector<Checkpoint>& old) {
                 continue;
             same = c->outline.get();
         }
+        uint32_t at = f.offset;
+        if (!edit_move_->block(at) || (!ahead_at_.empty() && at < ahead_at_.back())) continue;
         ahead_.push_back(c);
+        ahead_at_.push_back(at);
     }
-    if (!ahead_.empty()) {
-        uint32_t at = ahead_.front()->frozen->offset;
-        edit_move_->block(at);
-        ahead_offset_ = at;
-    }
+    ahead_loops_.resize(ahead_.size());
 }
 
 // At a block boundary of the top level at or past the next checkpoint ahead:
 // ends the walk there when its state is that checkpoint's, moved.
 void Walk::try_converge() {
     while (ahead_next_ < ahead_.size()) {
-        const WalkCheckpoint& c = *ahead_[ahead_next_];
-        uint32_t at = c.frozen->offset;
-        edit_move_->block(at);
-        if (main_.next_offset() < at) {
-            ahead_offset_ = at;
-            return;
-        }
+        const size_t i = ahead_next_;
+        if (main_.next_offset() < ahead_at_[i]) return;
         ++ahead_next_;
-        if (main_.next_offset() == at && !in_loop_ && !speculating_ && !bringing_ && same_as_moved(c)) {
-            converge_at(c);
+        if (main_.next_offset() == ahead_at_[i] && !ahead_[i]->loop && !in_loop_ && !speculating_ && !bringing_ &&
+            same_as_moved(*ahead_[i])) {
+            take_checkpoint();
+            const Checkpoint here = options_.checkpoints->back();
+            converge_at(i + 1, here->frozen, here);
             return;
         }
     }
+}
+
+// The checkpoint ahead_[i] inside a loop, moved to this text (nullptr: it
+// cannot be).
+std::shared_ptr<const LoopCheckpoint> Walk::ahead_loop(size_t i) {
+    auto& l = ahead_loops_[i];
+    if (l) return *l;
+    const WalkCheckpoint& c = *ahead_[i];
+    l = move_loop(*c.loop, LineMove{*edit_move_}, &moved_sweeps_);
+    return *l;
+}
+
+void Walk::start_ahead_in_loop() {
+    ahead_in_loop_ = static_cast<size_t>(
+        std::lower_bound(ahead_at_.begin(), ahead_at_.end(), main_.next_offset()) - ahead_at_.begin());
+}
+
+size_t Walk::ahead_in_loop() {
+    const uint64_t o = main_.next_offset();
+    while (ahead_in_loop_ < ahead_.size() && ahead_at_[ahead_in_loop_] < o) ++ahead_in_loop_;
+    for (size_t i = ahead_in_loop_; i < ahead_.size() && ahead_at_[i] == o; ++i)
+        if (ahead_[i]->loop && ahead_[i]->frozen->program == program_index_) return i;
+    return kNone;
+}
+
+namespace {
+
+bool same_states(const std::map<uint32_t, MaybeState>& a, const std::map<uint32_t, MaybeState>& b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const auto& x, const auto& y) {
+               return x.first == y.first && same_state(x.second, y.second);
+           });
+}
+
+bool same_states(const std::unordered_map<std::string, MaybeState>& a,
+                 const std::unordered_map<std::string, MaybeState>& b) {
+    if (a.size() != b.size()) return false;
+    for (const auto& [name, s] : a) {
+        const auto it = b.find(name);
+        if (it == b.end() || !same_state(s, it->second)) return false;
+    }
+    return true;
+}
+
+// Whether two first sweeps over a loop left the same states behind: the walk
+// with the rules after them starts from the same states.
+bool same_sweep_end(const SweepState& a, const SweepState& b) {
+    return a.loop_changed == b.loop_changed && a.extent == b.extent && a.next == b.next &&
+           a.next_line == b.next_line && same_state(a.flowing, b.flowing) && same_state(a.final_state, b.final_state) &&
+           same_states(a.join, b.join) && same_states(a.pending_offset, b.pending_offset) &&
+           same_states(a.pending_name, b.pending_name) && a.defs == b.defs;
+}
+
+}  // namespace
+
+// Whether the first sweep over the loop, before its `index`-th block, is in
+// the state `s` holds.
+bool Walk::sweep_is(const SweepState& s, uint32_t extent, uint32_t index) const {
+    return s.index == index && s.extent == extent && s.loop_changed == loop_changed_ && s.stamp == stamp_ &&
+           same_state(s.flowing, MaybeState{reachable_, reachable_ ? *A_ : ModalState{}}) &&
+           same_state(s.final_state, final_state_) && same_states(s.join, join_) &&
+           same_states(s.pending_offset, pending_offset_) && same_states(s.pending_name, pending_name_) &&
+           s.defs == defs_ && s.probes.size() == probes_.size() && same_states(s.probes, probes_) &&
+           s.join_stamps == join_stamps_;
+}
+
+// In the first sweep over a loop, before the block where the previous
+// analysis took its checkpoint ahead_[i]: when the sweep is in the state that
+// analysis's first sweep was in there, the rest of it would be that sweep's.
+// It ends at once, with the states that sweep left; the marks further on are
+// the ones it took.
+bool Walk::sweep_converges(size_t i, uint32_t& extent, uint32_t index) {
+    const auto l = ahead_loop(i);
+    if (!l || l->head != loop_start_ || l->head_line != loop_head_line_ || !same_state(l->entry, loop_entry_) ||
+        !sweep_is(*l->first, extent, index))
+        return false;
+    restore_sweep(*l->after_first);
+    extent = l->after_first->extent;
+    main_.seek(l->after_first->next, l->after_first->next_line);
+    while (!loop_marks_.empty() && loop_marks_.back().offset >= ahead_at_[i]) {
+        loop_mark_cost_ -= loop_marks_.back().cost;
+        loop_marks_.pop_back();
+    }
+    for (size_t k = i; k < ahead_.size(); ++k) {
+        if (!ahead_[k]->loop || ahead_[k]->frozen->program != program_index_) continue;
+        const auto lk = ahead_loop(k);
+        if (!lk || lk->head != loop_start_ || lk->after_first != l->after_first) continue;
+        const SweepState& m = *lk->first;
+        const size_t cost = 1 + m.join.size() + m.pending_offset.size() + m.pending_name.size() + m.probes.size() +
+                            m.join_stamps.size();
+        loop_marks_.push_back({ahead_at_[k], lk->first, cost});
+        loop_mark_cost_ += cost;
+    }
+    ++stats_.sweep_convergences;
+    return true;
+}
+
+// In the walk with the rules over a loop after its first sweep, before the
+// block where the previous analysis took its checkpoint ahead_[i]: ends the
+// walk there when its state (the one the first sweep left included) is that
+// checkpoint's, moved. The previous analysis's walk went on from there and
+// stood; so would this one.
+bool Walk::try_converge_in_loop(size_t i) {
+    if (loop_changed_ || speculation_overflow_ || !after_first_) return false;
+    const auto l = ahead_loop(i);
+    if (!l || l->head != loop_start_ || l->head_line != loop_head_line_ || !same_state(l->entry, loop_entry_) ||
+        !same_sweep_end(*after_first_, *l->after_first) || !same_states(join_, l->join) ||
+        !same_states(brought_name_, l->brought_name) || !same_states(brought_offset_, l->brought_offset) ||
+        !same_state(brought_final_, l->brought_final) || !same_as_moved(*ahead_[i]))
+        return false;
+    const auto at = freeze_in_loop();
+    Checkpoint here = moved_ahead(i, *ahead_[i]->frozen, *at);
+    if (!here) return false;
+    end_speculation();
+    converge_at(i + 1, at, std::move(here));
+    ++stats_.loop_convergences;
+    return true;
 }
 
 // Whether the walk now is in the state `old` holds, moved by the edit.
@@ -403,8 +575,11 @@ bool Walk::same_as_moved(const WalkCheckpoint& old) const {
     Program p = f.program_info;
     if (!m.range(p.name_range) || !(p == program_)) return false;
     if (!same_moved(MaybeState{reachable_, reachable_ ? *A_ : ModalState{}}, f.flowing, m) ||
-        !same_moved(final_state_, f.final_state, m) || !same_moved_map(pending_offset_, old.pending_offset, m))
+        !same_moved(final_state_, f.final_state, m))
         return false;
+    // Inside a loop, the states left at blocks further on are the first
+    // sweep's with what the walk brought to them (compared by the caller).
+    if (!old.loop && !same_moved_map(pending_offset_, old.pending_offset, m)) return false;
     if (pending_name_.size() != f.pending_name.size()) return false;
     for (const auto& [name, st] : f.pending_name) {
         const auto it = pending_name_.find(name);
@@ -486,30 +661,44 @@ std::shared_ptr<FrozenWalk> Walk::moved_frozen(const FrozenWalk& f2, const Froze
     return g;
 }
 
-// Ends the walk at `old`: a checkpoint here, then the previous analysis's
-// checkpoints after `old`, moved; the caller keeps that analysis's findings
-// from `old` on.
-void Walk::converge_at(const WalkCheckpoint& old) {
-    take_checkpoint();
-    const Checkpoint here = options_.checkpoints->back();
-    const FrozenWalk& f = *old.frozen;
-    for (size_t i = ahead_next_; i < ahead_.size(); ++i) {
-        const WalkCheckpoint& c = *ahead_[i];
-        auto moved = std::make_shared<WalkCheckpoint>();
-        moved->outline = shared_outline_;
-        moved->summaries = walk_summaries_;
-        moved->frozen = moved_frozen(*c.frozen, f, *here->frozen);
-        bool ok = moved->frozen != nullptr;
-        for (auto it = c.pending_offset.begin(); ok && it != c.pending_offset.end(); ++it) {
-            uint32_t o = it->first;
-            auto s = moved_state(it->second, *edit_move_);
-            ok = s && edit_move_->block(o);
-            if (ok) moved->pending_offset.emplace(o, std::move(*s));
-        }
-        if (!ok) break;
+// A checkpoint of the previous analysis ahead of the edit, moved to this text
+// (nullptr: it cannot be), `f` being the one the walk ends at and `at` the
+// walk there.
+Checkpoint Walk::moved_ahead(size_t i, const FrozenWalk& f, const FrozenWalk& at) {
+    const WalkCheckpoint& c = *ahead_[i];
+    auto moved = std::make_shared<WalkCheckpoint>();
+    moved->outline = shared_outline_;
+    moved->summaries = walk_summaries_;
+    moved->frozen = moved_frozen(*c.frozen, f, at);
+    if (!moved->frozen) return nullptr;
+    for (const auto& [offset, state] : c.pending_offset) {
+        uint32_t o = offset;
+        auto s = moved_state(state, *edit_move_);
+        if (!s || !edit_move_->block(o)) return nullptr;
+        moved->pending_offset.emplace(o, std::move(*s));
+    }
+    if (c.loop) {
+        moved->loop = ahead_loop(i);
+        if (!moved->loop) return nullptr;
+    }
+    return moved;
+}
+
+// Ends the walk at the previous analysis's checkpoint before ahead_[from]:
+// `here` (this walk's checkpoint there) is the last one taken, the previous
+// analysis's checkpoints from ahead_[from] on follow, moved; the caller keeps
+// that analysis's findings from there on.
+void Walk::converge_at(size_t from, const std::shared_ptr<const FrozenWalk>& at, Checkpoint here) {
+    const FrozenWalk& f = *ahead_[from - 1]->frozen;
+    const CheckpointPlace place = checkpoint_place(*here);
+    if (options_.checkpoints->empty() || options_.checkpoints->back() != here)
+        options_.checkpoints->push_back(std::move(here));
+    for (size_t k = from; k < ahead_.size(); ++k) {
+        Checkpoint moved = moved_ahead(k, f, *at);
+        if (!moved) break;
         options_.checkpoints->push_back(std::move(moved));
     }
-    *options_.converged = Convergence{checkpoint_place(*here), f.diagnostics, f.suppressed};
+    *options_.converged = Convergence{place, f.diagnostics, f.suppressed};
     converged_ = true;
     stop_ = true;
     ++stats_.convergences;
@@ -569,6 +758,7 @@ bool Walk::resume_from_checkpoints() {
             moved_c->loop = c->loop;
             moved_c->loop_moves = c->loop_moves;
             moved_c->loop_moves.emplace_back(c->outline->size, e);
+            moved_c->loop_exact = false;
         }
         options_.checkpoints->push_back(std::move(moved_c));
     }
@@ -578,7 +768,7 @@ bool Walk::resume_from_checkpoints() {
         Checkpoint& last = options_.checkpoints->back();
         std::shared_ptr<const LoopCheckpoint> l = last->loop;
         for (const auto& [size, change] : last->loop_moves)
-            if (l) l = move_loop(*l, size, change);
+            if (l) l = move_loop(*l, KeysMove{size, change});
         if (!l) {
             options_.checkpoints->pop_back();
             continue;
@@ -648,6 +838,8 @@ SweepState Walk::sweep_state(uint32_t extent, uint32_t index) const {
     s.extent = extent;
     s.index = index;
     s.loop_changed = loop_changed_;
+    s.next = static_cast<uint32_t>(main_.next_offset());
+    s.next_line = main_.next_line();
     return s;
 }
 
@@ -687,11 +879,10 @@ void Walk::mark_loop(uint32_t extent, uint32_t index) {
     next_loop_mark_ = main_.next_offset() + loop_mark_spacing_;
 }
 
-// In the walk with the rules after the first sweep, before a block the first
-// sweep marked. The findings it keeps aside count as handed over: they are,
-// before any finding after the block, if the walk stands.
-void Walk::take_loop_checkpoint() {
-    const LoopMark& m = loop_marks_[loop_mark_next_++];
+// The walk with the rules after a first sweep, frozen. The findings it keeps
+// aside count as handed over: they are, before any finding after the block,
+// if the walk stands.
+std::shared_ptr<FrozenWalk> Walk::freeze_in_loop() {
     auto f = freeze();
     for (const auto& [d, s] : speculative_) {
         if (d) {
@@ -703,6 +894,14 @@ void Walk::take_loop_checkpoint() {
             if (s->directive) f->reach = std::max(f->reach, s->directive->bytes.end);
         }
     }
+    return f;
+}
+
+// In the walk with the rules after the first sweep, before a block the first
+// sweep marked.
+void Walk::take_loop_checkpoint() {
+    const LoopMark& m = loop_marks_[loop_mark_next_++];
+    auto f = freeze_in_loop();
     auto l = std::make_shared<LoopCheckpoint>();
     l->head = loop_start_;
     l->head_line = loop_head_line_;
@@ -716,6 +915,7 @@ void Walk::take_loop_checkpoint() {
     auto c = std::make_shared<WalkCheckpoint>();
     c->outline = shared_outline_;  // pending_offset: resume_loop makes it from the loop's states
     c->frozen = std::move(f);
+    c->summaries = walk_summaries_;
     c->loop = std::move(l);
     loop_checkpoints_.push_back(std::move(c));
 }
@@ -774,6 +974,7 @@ bool Walk::resume_loop() {
     begin_speculation();
     sweep_file(f.offset, f.line, end, Mode::Rules);
     bringing_ = false;
+    if (converged_) ++stats_.loop_resumes;
     if (stop_) return true;
     if (!end_speculation()) {
         end_loop();

@@ -266,7 +266,12 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     hold(head, head_line);
     converged(start, 0, false);
     visit(head, head_line, Mode::Iterate);
-    first_sweep(1, extent, hold);
+    if (first_sweep(1, extent, hold)) {
+        // It ended early (after an edit): its blocks were not all read.
+        holding = false;
+        held.clear();
+        held_text.clear();
+    }
     const uint64_t end = main_.next_offset();
     const uint32_t end_line = main_.next_line();
     ++stats_.loop_sweeps;
@@ -362,7 +367,11 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
     main_.seek(start, start_line);
     Block b;
     LineRef line;
+    const bool may_converge = bringing_ && mode == Mode::Rules && !ahead_.empty();
+    if (may_converge) start_ahead_in_loop();
     for (uint32_t index = 0; !stop_ && main_.next_offset() < end; ++index) {
+        if (may_converge)
+            if (const size_t i = ahead_in_loop(); i != kNone && try_converge_in_loop(i)) return false;
         if (speculating_ && loop_mark_next_ < loop_marks_.size()) {
             while (loop_mark_next_ < loop_marks_.size() && loop_marks_[loop_mark_next_].offset < main_.next_offset())
                 ++loop_mark_next_;
@@ -776,6 +785,7 @@ bool Walk::walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end,
     begin_speculation();
     set_state(entry);
     sweep_file(start, start_line, end, Mode::Rules);
+    if (converged_) return true;  // the previous analysis's walk from there on stood
     if (end_speculation()) return true;
     rules_ = std::move(before.rules);
     plain_rules_.clear();

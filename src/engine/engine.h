@@ -222,6 +222,8 @@ struct EngineStats {
     uint64_t loop_resumes = 0;         // analyses resumed at a checkpoint inside a loop
     uint64_t loop_resume_misses = 0;   // ... that found the loop's states changed and started before it
     uint64_t convergences = 0;         // analyses after an edit that ended early (EngineOptions::converged)
+    uint64_t loop_convergences = 0;    // ... inside a loop
+    uint64_t sweep_convergences = 0;   // first sweeps over a loop after an edit that ended early, as before it
 };
 
 inline constexpr std::string_view kCancelled = "cancelled";

@@ -69,6 +69,7 @@ struct HeldLine {
 struct JoinStamps {
     uint64_t entered = 0;
     uint64_t changed = 0;
+    friend bool operator==(const JoinStamps&, const JoinStamps&) = default;
 };
 
 // What the first sweep over a loop holds before one of its blocks, or when it ends.
@@ -85,6 +86,9 @@ struct SweepState {
     uint32_t extent = 0;
     uint32_t index = 0;  // of the block in the loop
     bool loop_changed = false;
+    // The block the walk read next (after the loop, when the sweep ended).
+    uint32_t next = 0;
+    uint32_t next_line = 0;
 };
 
 
@@ -159,6 +163,11 @@ struct WalkCheckpoint {
     // each, and the change): its offsets are moved to the text now only when
     // the walk resumes there.
     std::vector<std::pair<uint64_t, TextChange>> loop_moves;
+    // False once an edit after the block was made (the states `loop` holds
+    // from the first sweep on, and those `frozen` holds that came from them,
+    // are then of the text before it): the walk resumes there, reading those
+    // states only where they are the new text's, but never ends there.
+    bool loop_exact = true;
     // The summaries of the file's own programs that the findings of the
     // analysis it belongs to rest on, by name (filled when that analysis
     // ends): a later analysis that ends early here keeps those findings only
@@ -226,8 +235,9 @@ private:
     bool fall_back_before(uint32_t head);
     void reset_to_start();
     void end_loop();
+    // Returns true when it ended early, as the previous analysis's did (sweep_converges).
     template <class Hold>
-    void first_sweep(uint32_t index, uint32_t& extent, Hold&& hold);
+    bool first_sweep(uint32_t index, uint32_t& extent, Hold&& hold);
     bool loop_head(const Block& b, uint32_t offset, uint32_t& extent) const;
     void walk_loop(const Block& head, const LineRef& head_line);
     // A sweep returns false when it stopped early (it converged, or the walk stops).
@@ -327,19 +337,35 @@ private:
     }
     // --- ending early after an edit inside one line (EngineOptions::converged)
     std::optional<LineEditMove> edit_move_;
-    std::vector<Checkpoint> ahead_;  // the previous analysis's top-level checkpoints after the edit
-    size_t ahead_next_ = 0;
+    // The previous analysis's checkpoints after the edit (at the top level and
+    // inside loops), where they are in this text, and those inside loops
+    // moved to this text (made when first asked for: ahead_loop).
+    std::vector<Checkpoint> ahead_;
+    std::vector<uint32_t> ahead_at_;
+    std::vector<std::optional<std::shared_ptr<const LoopCheckpoint>>> ahead_loops_;
+    std::map<const SweepState*, std::shared_ptr<const SweepState>> moved_sweeps_;  // shared by them
+    std::shared_ptr<const LoopCheckpoint> ahead_loop(size_t i);
+    size_t ahead_next_ = 0;       // the next one at the top level
+    size_t ahead_in_loop_ = 0;    // the next one in the sweep over a loop
+    static constexpr size_t kNone = ~size_t(0);
+    void start_ahead_in_loop();
+    size_t ahead_in_loop();       // the one inside the loop at the next block (kNone: none)
+    bool sweep_converges(size_t i, uint32_t& extent, uint32_t index);
+    bool sweep_is(const SweepState& s, uint32_t extent, uint32_t index) const;
+    bool try_converge_in_loop(size_t i);
+    std::shared_ptr<FrozenWalk> freeze_in_loop();
+    Checkpoint moved_ahead(size_t i, const FrozenWalk& f, const FrozenWalk& at);
     std::shared_ptr<LocalSummaries> walk_summaries_;  // WalkCheckpoint::summaries of this analysis
     bool converged_ = false;
     void find_ahead(const std::vector<Checkpoint>& old);
     bool same_as_moved(const WalkCheckpoint& old) const;
     // A checkpoint after `f` (where the walk ended, there `at` now), moved.
     std::shared_ptr<FrozenWalk> moved_frozen(const FrozenWalk& f2, const FrozenWalk& f, const FrozenWalk& at) const;
-    void converge_at(const WalkCheckpoint& old);
+    // Ends the walk at ahead_[i] (`here`: the walk there, moved ahead_[i]).
+    void converge_at(size_t i, const std::shared_ptr<const FrozenWalk>& at, Checkpoint here);
     void converge_if_due() {
-        if (ahead_next_ < ahead_.size() && main_.next_offset() >= ahead_offset_) try_converge();
+        if (ahead_next_ < ahead_.size() && main_.next_offset() >= ahead_at_[ahead_next_]) try_converge();
     }
-    uint64_t ahead_offset_ = 0;  // of ahead_[ahead_next_] in the text now
     void try_converge();
     void finish_summaries();
     uint64_t delivered_diagnostics_ = 0;
@@ -429,10 +455,12 @@ private:
 // was visited), to the last block it reaches back from (`extent` grows as
 // the sweep finds more); `hold` sees each block.
 template <class Hold>
-void Walk::first_sweep(uint32_t index, uint32_t& extent, Hold&& hold) {
+bool Walk::first_sweep(uint32_t index, uint32_t& extent, Hold&& hold) {
     Block b;
     LineRef line;
+    start_ahead_in_loop();
     for (; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
+        if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
         mark_loop(extent, index);
         if (!read(b, line)) break;
         loop_head(b, line.start, extent);
@@ -440,6 +468,7 @@ void Walk::first_sweep(uint32_t index, uint32_t& extent, Hold&& hold) {
         converged(line.start, index, false);
         visit(b, line, Mode::Iterate);
     }
+    return false;
 }
 
 }  // namespace osplint

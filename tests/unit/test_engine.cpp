@@ -685,7 +685,85 @@ struct Resumed {
     int misses = 0;    // ... inside a loop whose states had changed, then before it
     int outlines_moved = 0;  // the outline of the edited text made by moving the old one
     int converged = 0;       // ended early, at a checkpoint of the analysis before
+    int loop_converged = 0;  // ... inside a loop
+    int sweeps_cut = 0;      // first sweeps over a loop that ended early, as the one before
 };
+
+// The analysis of `edited` from the checkpoints of the analysis of `text`
+// before it (whose findings, in the order they were handed over, are
+// `previous`): its findings and those the caller keeps, in that order; then
+// `previous` and `checkpoints` are this analysis's. Returns the findings,
+// sorted, as dump_result writes them.
+std::string analyse_edit(const std::string& path, const std::string& text, const std::string& edited,
+                         const Config& config, size_t held, std::vector<Checkpoint>& checkpoints, InOrder& previous,
+                         EngineStats& stats, bool& resumed, bool& converged_out) {
+    AnalysisOptions o;
+    o.checkpoint_every = 64;
+    o.checkpoints = &checkpoints;
+    o.held_loop_blocks = held;
+    o.edit = text_change(text, edited);
+    std::optional<CheckpointPlace> at;
+    o.resumed_at = &at;
+    std::optional<Convergence> converged;
+    o.converged = &converged;
+    o.stats = &stats;
+    MemorySource src(edited);
+    // The findings made before the checkpoint are kept by the caller,
+    // and so are those after the one the analysis ended at, moved.
+    InOrder fresh_part;
+    check_source(path, src, config, o, fresh_part);
+    std::vector<Diagnostic> d;
+    std::vector<SuppressedDiagnostic> s;
+    resumed = at.has_value();
+    converged_out = converged.has_value();
+    if (at) {
+        d.assign(previous.diagnostics.begin(), previous.diagnostics.begin() + static_cast<long>(at->diagnostics));
+        s.assign(previous.suppressed_list.begin(), previous.suppressed_list.begin() + static_cast<long>(at->suppressed));
+    }
+    std::vector<Diagnostic> kept;
+    std::vector<SuppressedDiagnostic> kept_suppressed;
+    if (converged) {
+        CHECK(stats.convergences == 1);
+        const auto move = line_edit_move(o.edit);
+        REQUIRE(move);
+        REQUIRE(converged->old_diagnostics <= previous.diagnostics.size());
+        REQUIRE(converged->old_suppressed <= previous.suppressed_list.size());
+        for (size_t i = converged->old_diagnostics; i < previous.diagnostics.size(); ++i) {
+            kept.push_back(previous.diagnostics[i]);
+            CHECK(move_diagnostic(kept.back(), *move));
+        }
+        for (size_t i = converged->old_suppressed; i < previous.suppressed_list.size(); ++i) {
+            kept_suppressed.push_back(previous.suppressed_list[i]);
+            CHECK(move_diagnostic(kept_suppressed.back().diagnostic, *move));
+            if (kept_suppressed.back().directive) CHECK(move->range(kept_suppressed.back().directive->bytes));
+        }
+    }
+    for (auto& x : fresh_part.diagnostics) d.push_back(x);
+    for (auto& x : fresh_part.suppressed_list) s.push_back(x);
+    for (auto& x : kept) d.push_back(x);
+    for (auto& x : kept_suppressed) s.push_back(x);
+    std::string got = dump_result(sorted(path, d, s));
+    previous.diagnostics = std::move(d);
+    previous.suppressed_list = std::move(s);
+    return got;
+}
+
+// The analysis of `text` that later edits start from.
+void analyse_first(const std::string& path, const std::string& text, const Config& config, size_t held,
+                   std::vector<Checkpoint>& checkpoints, InOrder& previous) {
+    AnalysisOptions o;
+    o.checkpoint_every = 64;
+    o.checkpoints = &checkpoints;
+    o.held_loop_blocks = held;
+    MemorySource src(text);
+    check_source(path, src, config, o, previous);
+}
+
+std::string fresh_analysis(const std::string& path, const std::string& text, const Config& config, size_t held) {
+    AnalysisOptions fresh;
+    fresh.held_loop_blocks = held;
+    return dump_result(check_text(path, text, config, fresh));
+}
 
 Resumed resumed_edits(size_t held, uint32_t seed_rng) {
     const auto files = corpus_files();
@@ -701,70 +779,21 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
         std::string text = original;
         std::vector<Checkpoint> checkpoints;
         InOrder previous;
-        {
-            AnalysisOptions o;
-            o.checkpoint_every = 64;
-            o.checkpoints = &checkpoints;
-            o.held_loop_blocks = held;
-            MemorySource src(text);
-            check_source(path.string(), src, config, o, previous);
-        }
+        analyse_first(path.string(), text, config, held, checkpoints, previous);
         for (int k = 0; k < 6; ++k) {
             const std::string edited = k % 2 ? edit_digit(text, rng) : mutate(text, rng);
-            AnalysisOptions o;
-            o.checkpoint_every = 64;
-            o.checkpoints = &checkpoints;
-            o.held_loop_blocks = held;
-            o.edit = text_change(text, edited);
-            std::optional<CheckpointPlace> at;
-            o.resumed_at = &at;
-            std::optional<Convergence> converged;
-            o.converged = &converged;
             EngineStats stats;
-            o.stats = &stats;
-            MemorySource src(edited);
-            // The findings made before the checkpoint are kept by the caller,
-            // and so are those after the one the analysis ended at, moved.
-            InOrder fresh_part;
-            check_source(path.string(), src, config, o, fresh_part);
-            std::vector<Diagnostic> d;
-            std::vector<SuppressedDiagnostic> s;
-            if (at) {
-                ++r.resumed;
-                d.assign(previous.diagnostics.begin(), previous.diagnostics.begin() + static_cast<long>(at->diagnostics));
-                s.assign(previous.suppressed_list.begin(),
-                         previous.suppressed_list.begin() + static_cast<long>(at->suppressed));
-            }
-            std::vector<Diagnostic> kept;
-            std::vector<SuppressedDiagnostic> kept_suppressed;
-            if (converged) {
-                ++r.converged;
-                CHECK(stats.convergences == 1);
-                const auto move = line_edit_move(o.edit);
-                REQUIRE(move);
-                REQUIRE(converged->old_diagnostics <= previous.diagnostics.size());
-                REQUIRE(converged->old_suppressed <= previous.suppressed_list.size());
-                for (size_t i = converged->old_diagnostics; i < previous.diagnostics.size(); ++i) {
-                    kept.push_back(previous.diagnostics[i]);
-                    CHECK(move_diagnostic(kept.back(), *move));
-                }
-                for (size_t i = converged->old_suppressed; i < previous.suppressed_list.size(); ++i) {
-                    kept_suppressed.push_back(previous.suppressed_list[i]);
-                    CHECK(move_diagnostic(kept_suppressed.back().diagnostic, *move));
-                    if (kept_suppressed.back().directive) CHECK(move->range(kept_suppressed.back().directive->bytes));
-                }
-            }
+            bool at = false, converged = false;
+            const std::string got =
+                analyse_edit(path.string(), text, edited, config, held, checkpoints, previous, stats, at, converged);
+            r.resumed += at;
+            r.converged += converged;
             r.in_loops += static_cast<int>(stats.loop_resumes);
             r.misses += static_cast<int>(stats.loop_resume_misses);
             r.outlines_moved += static_cast<int>(stats.outlines_moved);
-            for (auto& x : fresh_part.diagnostics) d.push_back(x);
-            for (auto& x : fresh_part.suppressed_list) s.push_back(x);
-            for (auto& x : kept) d.push_back(x);
-            for (auto& x : kept_suppressed) s.push_back(x);
-            const std::string got = dump_result(sorted(path.string(), d, s));
-            AnalysisOptions fresh;
-            fresh.held_loop_blocks = held;
-            const std::string expected = dump_result(check_text(path.string(), edited, config, fresh));
+            r.loop_converged += static_cast<int>(stats.loop_convergences);
+            r.sweeps_cut += static_cast<int>(stats.sweep_convergences);
+            const std::string expected = fresh_analysis(path.string(), edited, config, held);
             ++r.runs;
             if (got != expected) {
                 FAIL_CHECK(path.string() << " edit " << k << std::string(at ? " (resumed)" : "")
@@ -775,8 +804,6 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
                                          << edited);
                 break;
             }
-            previous.diagnostics = std::move(d);
-            previous.suppressed_list = std::move(s);
             text = edited;
         }
     }
@@ -797,10 +824,57 @@ TEST_CASE("engine: an edited text analysed from a checkpoint gives what a fresh 
 TEST_CASE("engine: an edit inside a loop read again is analysed from a checkpoint inside it, as a fresh analysis") {
     const Resumed r = resumed_edits(0, 6160);
     MESSAGE(r.resumed << " of " << r.runs << " analyses resumed from a checkpoint, " << r.in_loops
-                      << " inside a loop, " << r.misses << " inside a loop whose states had changed");
+                      << " inside a loop, " << r.misses << " inside a loop whose states had changed; " << r.converged
+                      << " ended early, " << r.loop_converged << " of them inside a loop; " << r.sweeps_cut
+                      << " first sweeps ended early");
     CHECK(r.resumed > r.runs / 4);
     CHECK(r.in_loops >= 50);
     CHECK(r.misses >= 5);
+    CHECK(r.loop_converged >= 20);
+    CHECK(r.sweeps_cut >= 20);
+}
+
+TEST_CASE("engine: an analysis after an edit ends early inside a loop only at checkpoints of the text it analyses") {
+    // A loop that may jump out of it in G91 until the first edit (to a CALL
+    // that OKYLX must not see in G91); the second edit, before that, leaves
+    // the modal state the same a little further on, and adds a finding.
+    std::string text = "O1000\nN1 G90 G0 X0 Y0 Z50.\nVC1=0\nVC2=0\nN10 G0 Z20.\n";
+    for (int i = 0; i < 150; ++i) text += "G1 X" + std::to_string(i) + ". Y1. F100\n";
+    text += "G91\nIF [VC2 EQ 1] N90\nG90\n";
+    for (int i = 0; i < 150; ++i) text += "G1 X" + std::to_string(i) + ". Y2.\n";
+    text += "VC1=VC1+1\nIF [VC1 LT 5] N10\nG0 Z100.\nN90 CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nM30\n";
+    const std::string path = "loop.min";
+    const Config config;
+    std::vector<Checkpoint> checkpoints;
+    InOrder previous;
+    analyse_first(path, text, config, 0, checkpoints, previous);
+
+    std::string first = text;
+    first.replace(first.find("G91\nIF"), 3, "G90");
+    std::string second = first;
+    // A finding there: the walk with the rules cannot end where the first sweep does.
+    second.replace(second.find("X120. Y1. F100\n"), 14, "X120. Y1. F100(");
+    REQUIRE(fresh_analysis(path, first, config, 0) != fresh_analysis(path, text, config, 0));
+
+    EngineStats stats;
+    bool resumed = false, converged = false;
+    CHECK(analyse_edit(path, text, first, config, 0, checkpoints, previous, stats, resumed, converged) ==
+          fresh_analysis(path, first, config, 0));
+    CHECK(stats.loop_resumes == 1);
+    EngineStats stats2;
+    CHECK(analyse_edit(path, first, second, config, 0, checkpoints, previous, stats2, resumed, converged) ==
+          fresh_analysis(path, second, config, 0));
+    // Once the whole loop was walked again, its checkpoints are of the text
+    // again: an edit before them ends early inside the loop.
+    std::string third = second;
+    third.replace(third.find("X20. Y1."), 8, "X21. Y1.");
+    EngineStats stats3;
+    CHECK(analyse_edit(path, second, third, config, 0, checkpoints, previous, stats3, resumed, converged) ==
+          fresh_analysis(path, third, config, 0));
+    MESSAGE("first sweeps ended early: " << stats2.sweep_convergences << ", " << stats3.sweep_convergences
+                                         << "; inside the loop: " << stats2.loop_convergences << ", "
+                                         << stats3.loop_convergences);
+    CHECK(stats3.loop_convergences == 1);
 }
 
 TEST_CASE("engine: an edit of the file's own subprogram reaches the states after its CALL on a resumed analysis") {
