@@ -411,7 +411,8 @@ void Walk::find_ahead(const std::vector<Checkpoint>& old) {
     moved_sweeps_.clear();
     ahead_next_ = 0;
     edit_move_ = line_edit_move(options_.edit);
-    if (!edit_move_ || !options_.converged || options_.observer || folder_.enabled() || !walk_summaries_) return;
+    may_converge_ = edit_move_ && options_.converged && !options_.observer && !folder_.enabled() && walk_summaries_;
+    if (!may_converge_) return;
     const FileOutline* same = nullptr;  // the outline found the same as this text's, moved
     for (const Checkpoint& c : old) {
         const FrozenWalk& f = *c->frozen;
@@ -759,6 +760,7 @@ bool Walk::resume_from_checkpoints() {
             moved_c->loop_moves = c->loop_moves;
             moved_c->loop_moves.emplace_back(c->outline->size, e);
             moved_c->loop_exact = false;
+            if (c->loop_exact) moved_c->exact_before = c->loop;
         }
         options_.checkpoints->push_back(std::move(moved_c));
     }
@@ -920,6 +922,30 @@ void Walk::take_loop_checkpoint() {
     loop_checkpoints_.push_back(std::move(c));
 }
 
+// After an edit inside one line after the checkpoint `c` inside a loop, whose
+// first sweep from there (`now`) left the states it left before the edit
+// (moved): the walk with the rules reaches every block of the loop before
+// the edit in the state it did, so the checkpoints kept before the edit whose
+// states came from that sweep are those of the new text, moved; they are
+// made so (and may be where a later analysis ends early: loop_exact).
+void Walk::renew_kept(const WalkCheckpoint& c, const SweepState& now) {
+    if (!may_converge_ || !c.exact_before) return;
+    const SweepState* before = c.exact_before->after_first.get();
+    const auto moved = move_sweep(*before, LineMove{*edit_move_});
+    if (!moved || !same_sweep_end(now, *moved)) return;
+    for (Checkpoint& k : *options_.checkpoints) {
+        if (!k->loop || !k->exact_before || k->exact_before->after_first.get() != before) continue;
+        auto renewed = std::make_shared<WalkCheckpoint>();
+        renewed->outline = shared_outline_;
+        renewed->summaries = walk_summaries_;
+        renewed->frozen = moved_frozen(*k->frozen, *k->frozen, *k->frozen);
+        renewed->loop = move_loop(*k->exact_before, LineMove{*edit_move_}, &moved_sweeps_);
+        if (!renewed->frozen || !renewed->loop) continue;
+        k = std::move(renewed);
+        ++stats_.checkpoints_renewed;
+    }
+}
+
 // Resumes at a checkpoint inside a loop (resume_in_loop_, restored): the
 // first sweep goes on from its block over the new text; when it leaves the
 // states the previous analysis's walk with the rules started from, that walk
@@ -950,6 +976,7 @@ bool Walk::resume_loop() {
         end_loop();
         return false;
     }
+    renew_kept(c, *now);
     // The walk with the rules up to the block is then the one of the previous
     // analysis: at the block, the joins it passed are as it left them, and
     // the states further on are the new first sweep's with what that walk

@@ -224,6 +224,7 @@ struct EngineStats {
     uint64_t convergences = 0;         // analyses after an edit that ended early (EngineOptions::converged)
     uint64_t loop_convergences = 0;    // ... inside a loop
     uint64_t sweep_convergences = 0;   // first sweeps over a loop after an edit that ended early, as before it
+    uint64_t checkpoints_renewed = 0;  // checkpoints inside a loop before an edit found the new text's
 };
 
 inline constexpr std::string_view kCancelled = "cancelled";

@@ -168,6 +168,9 @@ struct WalkCheckpoint {
     // are then of the text before it): the walk resumes there, reading those
     // states only where they are the new text's, but never ends there.
     bool loop_exact = true;
+    // When one edit after the block was made since it was exact: `loop` as it
+    // was then (Walk::renew_kept).
+    std::shared_ptr<const LoopCheckpoint> exact_before;
     // The summaries of the file's own programs that the findings of the
     // analysis it belongs to rest on, by name (filled when that analysis
     // ends): a later analysis that ends early here keeps those findings only
@@ -353,6 +356,8 @@ private:
     bool sweep_converges(size_t i, uint32_t& extent, uint32_t index);
     bool sweep_is(const SweepState& s, uint32_t extent, uint32_t index) const;
     bool try_converge_in_loop(size_t i);
+    bool may_converge_ = false;  // after an edit inside one line, with checkpoints that may be kept
+    void renew_kept(const WalkCheckpoint& c, const SweepState& now);
     std::shared_ptr<FrozenWalk> freeze_in_loop();
     Checkpoint moved_ahead(size_t i, const FrozenWalk& f, const FrozenWalk& at);
     std::shared_ptr<LocalSummaries> walk_summaries_;  // WalkCheckpoint::summaries of this analysis
