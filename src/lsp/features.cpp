@@ -79,6 +79,95 @@ json publish_params(const std::string& uri, int64_t version, const std::vector<D
     return p;
 }
 
+namespace {
+
+void key_number(std::string& k, uint32_t n) { k.append(reinterpret_cast<const char*>(&n), sizeof n); }
+void key_text(std::string& k, std::string_view t) {
+    key_number(k, static_cast<uint32_t>(t.size()));
+    k.append(t);
+}
+void key_position(std::string& k, const Position& p) {
+    key_number(k, p.line);
+    key_number(k, p.byte_col);
+    key_number(k, p.cp_col);
+    key_number(k, p.utf16_col);
+}
+void key_range(std::string& k, const SourceRange& r) {
+    key_position(k, r.start);
+    key_position(k, r.end);
+}
+
+// Everything of a finding to_lsp_diagnostic writes.
+std::string text_key(const Diagnostic& d, Encoding enc) {
+    std::string k;
+    key_number(k, static_cast<uint32_t>(enc));
+    key_text(k, d.rule);
+    key_number(k, static_cast<uint32_t>(d.severity));
+    key_text(k, d.message);
+    key_range(k, d.range);
+    key_number(k, static_cast<uint32_t>(d.notes.size()));
+    for (const Note& n : d.notes) {
+        key_text(k, n.message);
+        key_number(k, n.range.has_value());
+        if (n.range) key_range(k, *n.range);
+    }
+    key_number(k, static_cast<uint32_t>(d.fixes.size()));
+    for (const Fix& f : d.fixes) {
+        key_text(k, f.title);
+        key_number(k, f.safe);
+        key_number(k, static_cast<uint32_t>(f.edits.size()));
+        for (const TextEdit& e : f.edits) {
+            key_range(k, e.range);
+            key_text(k, e.replacement);
+        }
+    }
+    return k;
+}
+
+std::string dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+}  // namespace
+
+std::string publish_text(const std::string& uri, int64_t version, const std::vector<Diagnostic>& diags, Encoding enc,
+                         DiagnosticTexts& texts) {
+    // Keys in the order nlohmann::json writes them (sorted), as make_notification's message.
+    std::string out = R"({"jsonrpc":"2.0","method":"textDocument/publishDiagnostics","params":{"diagnostics":[)";
+    const std::string v = std::to_string(version);
+    DiagnosticTexts now;
+    now.reserve(diags.size());
+    for (size_t i = 0; i < diags.size(); ++i) {
+        std::string key = text_key(diags[i], enc);
+        auto it = now.find(key);
+        if (it == now.end()) {
+            auto old = texts.find(key);
+            if (old != texts.end()) {
+                it = now.emplace(std::move(key), std::move(old->second)).first;
+            } else {
+                // Written with version 0, then cut there: "version" is the last key of "data".
+                const std::string whole = dump(to_lsp_diagnostic(diags[i], uri, enc, 0));
+                constexpr std::string_view kVersion = R"("version":0})";
+                const size_t at = whole.rfind(kVersion);
+                it = now.emplace(std::move(key), std::make_pair(whole.substr(0, at + kVersion.size() - 2),
+                                                                whole.substr(at + kVersion.size() - 1)))
+                         .first;
+            }
+        }
+        if (i) out += ',';
+        out += it->second.first;
+        out += v;
+        out += it->second.second;
+    }
+    out += R"(],"uri":)";
+    out += dump(json(uri));
+    if (version >= 0) {
+        out += R"(,"version":)";
+        out += v;
+    }
+    out += "}}";
+    texts = std::move(now);
+    return out;
+}
+
 // --- G and M codes ----------------------------------------------------------
 
 std::optional<std::string_view> code_meaning(std::string_view code) {

@@ -74,7 +74,10 @@ json make_request(const json& id, std::string_view method, json params) {
 }
 
 bool MessageWriter::send(const json& message) {
-    const std::string body = message.dump(-1, ' ', false, json::error_handler_t::replace);
+    return send_text(message.dump(-1, ' ', false, json::error_handler_t::replace));
+}
+
+bool MessageWriter::send_text(std::string_view body) {
     std::lock_guard lock(m_);
     return sink_.write(frame(body));
 }

@@ -50,6 +50,7 @@ class MessageWriter {
 public:
     explicit MessageWriter(OutputStream& sink) : sink_(sink) {}
     bool send(const json& message);
+    bool send_text(std::string_view body);  // a message already serialised
 
 private:
     std::mutex m_;

@@ -699,8 +699,7 @@ void Server::run_job(Job& job, Model& m) {
         std::lock_guard lock(m_);
         auto it = docs_.find(job.uri);
         if (it != docs_.end() && it->second.generation == job.generation && it->second.version == job.version)
-            send(make_notification("textDocument/publishDiagnostics",
-                                   publish_params(job.uri, job.version, m.diagnostics, encoding_)));
+            writer_.send_text(publish_text(job.uri, job.version, m.diagnostics, encoding_, m.published));
         // else: the document changed or closed meanwhile; these results are outdated.
     }
     const bool current = m.generation == job.generation && m.config;

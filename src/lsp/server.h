@@ -34,6 +34,7 @@
 #include "engine/summaries.h"
 #include "engine/workspace.h"
 #include "lsp/document.h"
+#include "lsp/features.h"
 #include "lsp/jsonrpc.h"
 #include "lsp/navigation.h"
 #include "lsp/text.h"
@@ -137,6 +138,7 @@ private:
         std::vector<Diagnostic> diagnostics;   // sorted, as published
         std::vector<Diagnostic> produced;      // the same in the order the engine made them
         std::vector<Checkpoint> checkpoints;   // where the next analysis may start after an edit
+        DiagnosticTexts published;             // the texts of the findings published last (publish_text)
         std::optional<BlockRecord> hovered;  // the block of the last hover, for this version
         // The programs it defines, as last analysed: read by the other
         // documents' workers (under m_) for the names a CALL may reach.

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "syntax/frontend.h"
+#include "lsp/features.h"
 #include "lsp/jsonrpc.h"
 #include "lsp/text.h"
 #include "lsp/transport.h"
@@ -251,4 +252,48 @@ TEST_CASE("lsp: file URIs") {
     CHECK(!uri_to_path("untitled:Untitled-1"));
     CHECK(!uri_to_path("file://otherhost/x"));
     CHECK(uri_to_path(path_to_uri("/tmp/a b/#1.MIN")) == std::optional<std::string>("/tmp/a b/#1.MIN"));
+}
+
+TEST_CASE("lsp: publishDiagnostics written from the texts of the findings published before is the notification itself") {
+    auto at = [](uint32_t line, uint32_t col, uint32_t byte) {
+        return SourceRange{ByteRange{byte, byte + 2}, Position{line, col, col, col}, Position{line, col + 2, col + 2, col + 2}};
+    };
+    Diagnostic a;
+    a.rule = "OSP104";
+    a.severity = Severity::Warning;
+    a.message = "M52 on a \"call\" line\tand \xff a bad byte";
+    a.range = at(3, 4, 40);
+    a.notes.push_back({"set here", at(1, 0, 3)});
+    a.notes.push_back({"no place", std::nullopt});
+    Fix f;
+    f.title = "Replace M52 by PM=52";
+    f.safe = true;
+    f.edits.push_back({at(3, 4, 40), "PM=52"});
+    a.fixes.push_back(f);
+    Diagnostic b = a;
+    b.rule = "OSP001";
+    b.severity = Severity::Error;
+    b.message = "unterminated comment";
+    b.fixes.clear();
+    b.range = at(7, 1, 90);
+    const std::string uri = "file:///w/a%20b.min";
+    DiagnosticTexts texts;
+    for (const int64_t version : {int64_t{3}, int64_t{-1}, int64_t{12}}) {
+        const std::vector<Diagnostic> diags = {a, b, a};
+        const std::string expected = make_notification("textDocument/publishDiagnostics",
+                                                       publish_params(uri, version, diags, Encoding::Utf16))
+                                         .dump(-1, ' ', false, json::error_handler_t::replace);
+        CHECK(publish_text(uri, version, diags, Encoding::Utf16, texts) == expected);
+        CHECK(texts.size() == 2);
+        // The next publication: the same findings at other bytes of the same lines and columns.
+        a.range.bytes.begin += 5;
+        a.range.bytes.end += 5;
+    }
+    // A finding that moved to another column is written again.
+    b.range.start.utf16_col += 1;
+    const std::vector<Diagnostic> moved = {b};
+    CHECK(publish_text(uri, 4, moved, Encoding::Utf16, texts) ==
+          make_notification("textDocument/publishDiagnostics", publish_params(uri, 4, moved, Encoding::Utf16))
+              .dump(-1, ' ', false, json::error_handler_t::replace));
+    CHECK(texts.size() == 1);
 }
