@@ -71,14 +71,6 @@ json to_lsp_diagnostic(const Diagnostic& d, const std::string& uri, Encoding enc
     return out;
 }
 
-json publish_params(const std::string& uri, int64_t version, const std::vector<Diagnostic>& diags, Encoding enc) {
-    json list = json::array();
-    for (const auto& d : diags) list.push_back(to_lsp_diagnostic(d, uri, enc, version));
-    json p = {{"uri", uri}, {"diagnostics", std::move(list)}};
-    if (version >= 0) p["version"] = version;
-    return p;
-}
-
 namespace {
 
 void key_number(std::string& k, uint32_t n) { k.append(reinterpret_cast<const char*>(&n), sizeof n); }

@@ -26,14 +26,14 @@ inline constexpr std::string_view kRuleDocBase = "https://github.com/osplint/osp
 // One LSP Diagnostic: range, severity, code, codeDescription, source,
 // message, relatedInformation (notes with a range), data {version, fixes}.
 json to_lsp_diagnostic(const Diagnostic& d, const std::string& uri, Encoding enc, int64_t version);
-json publish_params(const std::string& uri, int64_t version, const std::vector<Diagnostic>& diags, Encoding enc);
 // The text of findings as to_lsp_diagnostic writes them, up to and after
 // their version, by what they say and where (lines and columns, not bytes):
 // kept from one publication of a document to the next, whose findings are
 // mostly the same ones.
 using DiagnosticTexts = std::unordered_map<std::string, std::pair<std::string, std::string>>;
-// The publishDiagnostics notification of publish_params, as the text
-// MessageWriter::send would write; `texts` is left with those of `diags`.
+// The publishDiagnostics notification of `diags` (uri, diagnostics, and the
+// version when it is not negative), as the text MessageWriter::send would
+// write; `texts` is left with those of `diags`.
 std::string publish_text(const std::string& uri, int64_t version, const std::vector<Diagnostic>& diags, Encoding enc,
                          DiagnosticTexts& texts);
 

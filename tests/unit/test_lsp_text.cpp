@@ -254,6 +254,19 @@ TEST_CASE("lsp: file URIs") {
     CHECK(uri_to_path(path_to_uri("/tmp/a b/#1.MIN")) == std::optional<std::string>("/tmp/a b/#1.MIN"));
 }
 
+namespace {
+
+std::string publish_whole(const std::string& uri, int64_t version, const std::vector<Diagnostic>& diags) {
+    json list = json::array();
+    for (const auto& d : diags) list.push_back(to_lsp_diagnostic(d, uri, Encoding::Utf16, version));
+    json params = {{"uri", uri}, {"diagnostics", std::move(list)}};
+    if (version >= 0) params["version"] = version;
+    return make_notification("textDocument/publishDiagnostics", params)
+        .dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+}  // namespace
+
 TEST_CASE("lsp: publishDiagnostics written from the texts of the findings published before is the notification itself") {
     auto at = [](uint32_t line, uint32_t col, uint32_t byte) {
         return SourceRange{ByteRange{byte, byte + 2}, Position{line, col, col, col}, Position{line, col + 2, col + 2, col + 2}};
@@ -280,10 +293,7 @@ TEST_CASE("lsp: publishDiagnostics written from the texts of the findings publis
     DiagnosticTexts texts;
     for (const int64_t version : {int64_t{3}, int64_t{-1}, int64_t{12}}) {
         const std::vector<Diagnostic> diags = {a, b, a};
-        const std::string expected = make_notification("textDocument/publishDiagnostics",
-                                                       publish_params(uri, version, diags, Encoding::Utf16))
-                                         .dump(-1, ' ', false, json::error_handler_t::replace);
-        CHECK(publish_text(uri, version, diags, Encoding::Utf16, texts) == expected);
+        CHECK(publish_text(uri, version, diags, Encoding::Utf16, texts) == publish_whole(uri, version, diags));
         CHECK(texts.size() == 2);
         // The next publication: the same findings at other bytes of the same lines and columns.
         a.range.bytes.begin += 5;
@@ -292,8 +302,6 @@ TEST_CASE("lsp: publishDiagnostics written from the texts of the findings publis
     // A finding that moved to another column is written again.
     b.range.start.utf16_col += 1;
     const std::vector<Diagnostic> moved = {b};
-    CHECK(publish_text(uri, 4, moved, Encoding::Utf16, texts) ==
-          make_notification("textDocument/publishDiagnostics", publish_params(uri, 4, moved, Encoding::Utf16))
-              .dump(-1, ' ', false, json::error_handler_t::replace));
+    CHECK(publish_text(uri, 4, moved, Encoding::Utf16, texts) == publish_whole(uri, 4, moved));
     CHECK(texts.size() == 1);
 }
