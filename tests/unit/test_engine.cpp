@@ -836,45 +836,65 @@ TEST_CASE("engine: an edit inside a loop read again is analysed from a checkpoin
     CHECK(r.sweeps_cut >= 20);
 }
 
+namespace {
+
+// A loop of 150 moves, `middle`, 150 more moves, run five times, then `after`.
+std::string loop_text(const std::string& middle, const std::string& after) {
+    std::string text = "O1000\nN1 G90 G0 X0 Y0 Z50.\nVC1=0\nVC2=0\nN10 G0 Z20.\n";
+    for (int i = 0; i < 150; ++i) text += "G1 X" + std::to_string(i) + ". Y1. F100\n";
+    text += middle;
+    for (int i = 0; i < 150; ++i) text += "G1 X" + std::to_string(i) + ". Y2.\n";
+    return text + "VC1=VC1+1\nIF [VC1 LT 5] N10\nG0 Z100.\n" + after + "M30\n";
+}
+
+// A document analysed, then edited, each analysis from the checkpoints of the one before.
+struct EditedDocument {
+    std::string path = "loop.min";
+    Config config;
+    std::vector<Checkpoint> checkpoints;
+    InOrder previous;
+    std::string text;
+    explicit EditedDocument(std::string t) : text(std::move(t)) {
+        analyse_first(path, text, config, 0, checkpoints, previous);
+    }
+    // Replaces the first `from` with `to`: whether the findings are those of a fresh analysis.
+    bool edit(const std::string& from, const std::string& to, EngineStats& stats,
+              std::optional<Convergence>* place = nullptr) {
+        std::string edited = text;
+        edited.replace(edited.find(from), from.size(), to);
+        bool resumed = false, converged = false;
+        const bool same = analyse_edit(path, text, edited, config, 0, checkpoints, previous, stats, resumed,
+                                       converged, place) == fresh_analysis(path, edited, config, 0);
+        text = std::move(edited);
+        return same;
+    }
+};
+
+}  // namespace
+
 TEST_CASE("engine: an analysis after an edit ends early inside a loop only at checkpoints of the text it analyses") {
     // A loop that may jump out of it in G91 until the first edit (to a CALL
     // that OKYLX must not see in G91); the second edit, before that, leaves
     // the modal state the same a little further on, and adds a finding.
     auto run = [](const std::string& may_g91, const std::string& edited) {
-        std::string text = "O1000\nN1 G90 G0 X0 Y0 Z50.\nVC1=0\nVC2=0\nN10 G0 Z20.\n";
-        for (int i = 0; i < 150; ++i) text += "G1 X" + std::to_string(i) + ". Y1. F100\n";
-        text += may_g91 + "IF [VC2 EQ 1] N90\nG90\n";
-        for (int i = 0; i < 150; ++i) text += "G1 X" + std::to_string(i) + ". Y2.\n";
-        text += "VC1=VC1+1\nIF [VC1 LT 5] N10\nG0 Z100.\nN90 CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nM30\n";
-        const std::string path = "loop.min";
-        const Config config;
-        std::vector<Checkpoint> checkpoints;
-        InOrder previous;
-        analyse_first(path, text, config, 0, checkpoints, previous);
-
+        const std::string text = loop_text(may_g91 + "IF [VC2 EQ 1] N90\nG90\n",
+                                           "N90 CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\n");
         std::string first = text;
         first.replace(first.find(may_g91), may_g91.size(), edited);
-        std::string second = first;
-        // A finding there: the walk with the rules cannot end where the first sweep does.
-        second.replace(second.find("X120. Y1. F100\n"), 14, "X120. Y1. F100(");
-        REQUIRE(fresh_analysis(path, first, config, 0) != fresh_analysis(path, text, config, 0));
-
+        const Config config;
+        REQUIRE(fresh_analysis("loop.min", first, config, 0) != fresh_analysis("loop.min", text, config, 0));
+        EditedDocument doc(text);
         EngineStats stats;
-        bool resumed = false, converged = false;
-        CHECK(analyse_edit(path, text, first, config, 0, checkpoints, previous, stats, resumed, converged) ==
-              fresh_analysis(path, first, config, 0));
+        CHECK(doc.edit(may_g91, edited, stats));
         CHECK(stats.loop_resumes == 1);
         CHECK(stats.checkpoints_renewed == 0);
+        // A finding there: the walk with the rules cannot end where the first sweep does.
         EngineStats stats2;
-        CHECK(analyse_edit(path, first, second, config, 0, checkpoints, previous, stats2, resumed, converged) ==
-              fresh_analysis(path, second, config, 0));
+        CHECK(doc.edit("X120. Y1. F100\n", "X120. Y1. F100(", stats2));
         // Once the whole loop was walked again, its checkpoints are of the text
         // again: an edit before them ends early inside the loop.
-        std::string third = second;
-        third.replace(third.find("X20. Y1."), 8, "X21. Y1.");
         EngineStats stats3;
-        CHECK(analyse_edit(path, second, third, config, 0, checkpoints, previous, stats3, resumed, converged) ==
-              fresh_analysis(path, third, config, 0));
+        CHECK(doc.edit("X20. Y1.", "X21. Y1.", stats3));
         CHECK(stats3.loop_convergences == 1);
     };
     SUBCASE("the edit sets the mode the jump takes") { run("G91\n", "G90\n"); }
@@ -882,31 +902,17 @@ TEST_CASE("engine: an analysis after an edit ends early inside a loop only at ch
 }
 
 TEST_CASE("engine: an edit inside a loop that leaves its states as they were keeps the checkpoints before it exact") {
-    std::string text = "O1000\nN1 G90 G0 X0 Y0 Z50.\nVC1=0\nN10 G0 Z20.\n";
-    for (int i = 0; i < 300; ++i) text += "G1 X" + std::to_string(i) + ". Y1. F100\n";
-    text += "VC1=VC1+1\nIF [VC1 LT 5] N10\nG0 Z100.\nCALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\nM30\n";
-    const std::string path = "loop.min";
-    const Config config;
-    std::vector<Checkpoint> checkpoints;
-    InOrder previous;
-    analyse_first(path, text, config, 0, checkpoints, previous);
+    EditedDocument doc(loop_text("", "CALL OKYLX PX=10 PY=0 PR=3 PZ=-5 PI=60 PD=21 PFA=100\n"));
+    const uint32_t near_end = static_cast<uint32_t>(doc.text.find("X100. Y2."));
     // A move near the loop's end, then one near its start: the second
     // analysis ends early at a checkpoint the first one kept.
-    std::string first = text;
-    first.replace(first.find("X280. Y1."), 9, "X281. Y1.");
-    std::string second = first;
-    second.replace(second.find("X20. Y1."), 8, "X21. Y1.");
-    const uint32_t near_end = static_cast<uint32_t>(text.find("X250. Y1."));
     EngineStats stats;
-    bool resumed = false, converged = false;
-    std::optional<Convergence> place;
-    CHECK(analyse_edit(path, text, first, config, 0, checkpoints, previous, stats, resumed, converged) ==
-          fresh_analysis(path, first, config, 0));
+    CHECK(doc.edit("X140. Y2.", "X141. Y2.", stats));
     CHECK(stats.loop_resumes == 1);
     CHECK(stats.checkpoints_renewed > 10);
     EngineStats stats2;
-    CHECK(analyse_edit(path, first, second, config, 0, checkpoints, previous, stats2, resumed, converged, &place) ==
-          fresh_analysis(path, second, config, 0));
+    std::optional<Convergence> place;
+    CHECK(doc.edit("X20. Y1.", "X21. Y1.", stats2, &place));
     CHECK(stats2.loop_convergences == 1);
     REQUIRE(place.has_value());
     CHECK(place->at.offset < near_end);
