@@ -180,6 +180,22 @@ std::optional<uint32_t> moved(uint32_t offset, uint64_t old_size, const TextChan
     return std::nullopt;
 }
 
+// The same for the start of a block: after a change inside one line, that
+// line starts where it did (LineEditMove::block), even when its first byte
+// changed.
+std::optional<uint32_t> moved_block(uint32_t offset, uint64_t old_size, const TextChange& e) {
+    if (e.next_line && e.lines == 0 && offset <= e.line_start) return offset;
+    return moved(offset, old_size, e);
+}
+
+// The same for where the line before `offset` ends: the text before the
+// change is the same, so the line after it starts there still (a line
+// written at the change is the one after it now).
+std::optional<uint32_t> moved_line_end(uint32_t offset, uint64_t old_size, const TextChange& e) {
+    if (offset <= e.prefix) return offset;
+    return moved(offset, old_size, e);
+}
+
 // How the offsets of a checkpoint inside a loop are moved through a change
 // of the text: KeysMove moves its blocks only (a checkpoint before the change,
 // whose states the walk resumed there reads only where they are the same as
@@ -191,7 +207,7 @@ struct KeysMove {
     uint64_t old_size = 0;
     TextChange e;
     bool block(uint32_t& o) const {
-        const auto m = moved(o, old_size, e);
+        const auto m = moved_block(o, old_size, e);
         if (m) o = *m;
         return m.has_value();
     }
@@ -246,9 +262,15 @@ std::shared_ptr<const SweepState> move_sweep(const SweepState& in, const Mover& 
     auto out = std::make_shared<SweepState>(in);
     if (!move_state(out->flowing, mv) || !move_map(out->join, mv) || !move_names(out->pending_name, mv) ||
         !move_map(out->pending_offset, mv) || !move_defs(out->defs, mv) || !move_state(out->final_state, mv) ||
-        !move_map(out->probes, mv) || !move_map(out->join_stamps, mv) || !mv.block(out->extent) ||
-        !mv.block(out->next))
+        !move_map(out->probes, mv) || !move_map(out->join_stamps, mv) || !mv.block(out->extent))
         return nullptr;
+    if (!mv.block(out->next)) {
+        // The line the sweep read next was changed. Only a walk that ends
+        // where the sweep ended seeks there (LineMove); a resumed one sweeps
+        // on and reads it again, and no sweep ends at this offset.
+        if constexpr (Mover::kRanges) return nullptr;
+        out->next = SweepState::kChanged;
+    }
     return out;
 }
 
@@ -311,6 +333,14 @@ bool same_structure(const FileOutline& old, const FileOutline& now, size_t upto,
         const auto m = moved(offset, old.size, e);
         return m && *m == expected;
     };
+    auto block_at = [&](uint32_t offset, uint32_t expected) {
+        const auto m = moved_block(offset, old.size, e);
+        return m && *m == expected;
+    };
+    auto line_end_at = [&](uint32_t offset, uint32_t expected) {
+        const auto m = moved_line_end(offset, old.size, e);
+        return m && *m == expected;
+    };
     auto line_at = [&](uint32_t offset, uint32_t line, uint32_t expected) {
         return offset < e.prefix ? line == expected : static_cast<int64_t>(line) + e.lines == expected;
     };
@@ -323,19 +353,19 @@ bool same_structure(const FileOutline& old, const FileOutline& now, size_t upto,
         const ProgramOutline& b = now.programs[i];
         if (a.name != b.name) return false;
         if (i > upto) continue;
-        if (!at(a.offset, b.offset) || !line_at(a.offset, a.line, b.line) || a.has_rts != b.has_rts ||
+        if (!block_at(a.offset, b.offset) || !line_at(a.offset, a.line, b.line) || a.has_rts != b.has_rts ||
             a.has_content != b.has_content || a.references != b.references || a.flow.size() != b.flow.size() ||
             !(a.name.empty() || range_at(a.name_range, b.name_range)))
             return false;
         for (size_t k = 0; k < a.flow.size(); ++k) {
             const FlowSite& x = a.flow[k];
             const FlowSite& y = b.flow[k];
-            if (!at(x.offset, y.offset) || !line_at(x.offset, x.line, y.line) || !at(x.next, y.next) ||
+            if (!block_at(x.offset, y.offset) || !line_at(x.offset, x.line, y.line) || !line_end_at(x.next, y.next) ||
                 x.block_delete != y.block_delete || !(x.statements == y.statements))
                 return false;
         }
     }
-    if (old.programs.size() > upto + 1 && !at(old.programs[upto + 1].offset, now.programs[upto + 1].offset))
+    if (old.programs.size() > upto + 1 && !block_at(old.programs[upto + 1].offset, now.programs[upto + 1].offset))
         return false;
     for (size_t i = 0; i < old.directives.size(); ++i) {
         const DirectiveSite& x = old.directives[i];
@@ -511,7 +541,7 @@ bool Walk::sweep_is(const SweepState& s, uint32_t extent, uint32_t index) const 
            same_state(s.flowing, MaybeState{reachable_, reachable_ ? *A_ : ModalState{}}) &&
            same_state(s.final_state, final_state_) && same_states(s.join, join_) &&
            same_states(s.pending_offset, pending_offset_) && same_states(s.pending_name, pending_name_) &&
-           s.defs == defs_ && s.probes.size() == probes_.size() && same_states(s.probes, probes_) &&
+           s.defs == defs_ && same_states(s.probes, probes_) &&
            s.join_stamps == join_stamps_;
 }
 
@@ -749,7 +779,7 @@ bool Walk::resume_from_checkpoints() {
         moved_c->summaries = walk_summaries_;
         bool ok = true;
         for (const auto& [offset, state] : c->pending_offset) {
-            const auto m = moved(offset, c->outline->size, e);
+            const auto m = moved_block(offset, c->outline->size, e);
             if (!m) ok = false;
             else moved_c->pending_offset.emplace(*m, state);
         }

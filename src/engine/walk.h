@@ -86,8 +86,10 @@ struct SweepState {
     uint32_t extent = 0;
     uint32_t index = 0;  // of the block in the loop
     bool loop_changed = false;
-    // The block the walk read next (after the loop, when the sweep ended).
+    // The block the walk read next (after the loop, when the sweep ended);
+    // kChanged when an edit of that line moved the state here.
     uint32_t next = 0;
+    static constexpr uint32_t kChanged = UINT32_MAX;
     uint32_t next_line = 0;
 };
 
@@ -463,9 +465,11 @@ template <class Hold>
 bool Walk::first_sweep(uint32_t index, uint32_t& extent, Hold&& hold) {
     Block b;
     LineRef line;
-    start_ahead_in_loop();
+    const bool may_converge = !ahead_.empty();
+    if (may_converge) start_ahead_in_loop();
     for (; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
-        if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
+        if (may_converge)
+            if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
         mark_loop(extent, index);
         if (!read(b, line)) break;
         loop_head(b, line.start, extent);

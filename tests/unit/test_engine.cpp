@@ -918,6 +918,22 @@ TEST_CASE("engine: an edit inside a loop that leaves its states as they were kee
     CHECK(place->at.offset < near_end);
 }
 
+TEST_CASE("engine: an edit at the start of the line after a loop is analysed from a checkpoint inside the loop") {
+    // The first byte of the line the loop's first sweep read next is replaced:
+    // a resumed walk sweeps on and reads that line again, so the checkpoint
+    // inside the loop stands.
+    EditedDocument doc(loop_text("", ""));
+    EngineStats stats;
+    CHECK(doc.edit("\nG0 Z100.", "\ng0 Z100.", stats));
+    CHECK(stats.loop_resumes == 1);
+    CHECK(stats.loop_resume_misses == 0);
+    // The same when the change writes a line break too.
+    EngineStats stats2;
+    CHECK(doc.edit("\ng0 Z100.", "\nM1\nG1 Z100.", stats2));
+    CHECK(stats2.loop_resumes == 1);
+    CHECK(stats2.loop_resume_misses == 0);
+}
+
 TEST_CASE("engine: an edit of the file's own subprogram reaches the states after its CALL on a resumed analysis") {
     SubprogramDirectories dirs;
     SubprogramSummaries summaries(builtin_rules(), dirs);
