@@ -674,6 +674,28 @@ std::string edit_digit(std::string text, std::mt19937& rng) {
     return text;
 }
 
+// A change of a line's first byte, or a byte or a line written before it:
+// the walk resumed at a checkpoint before that line reads the block that
+// starts there again, although the byte at its start changed.
+std::string edit_line_start(std::string text, std::mt19937& rng) {
+    std::vector<size_t> starts{0};
+    for (size_t i = 0; i + 1 < text.size(); ++i)
+        if (text[i] == '\n') starts.push_back(i + 1);
+    const size_t at = starts[rng() % starts.size()];
+    const char c = "GXYZNM/( "[rng() % 9];
+    switch (rng() % 3) {
+        case 0:
+            if (at < text.size() && text[at] != '\n' && text[at] != '\r') {
+                text[at] = c;
+                break;
+            }
+            [[fallthrough]];
+        case 1: text.insert(at, 1, c); break;
+        default: text.insert(at, rng() % 2 ? "G91\n" : "G90 X1.\n");  // a line of its own
+    }
+    return text;
+}
+
 // Edits of every corpus program and of generated ones, each analysed from the
 // checkpoints of the analysis before it and compared with a fresh analysis.
 // `held`: the loops held in memory (0: every loop is read again, and may hold
@@ -782,8 +804,8 @@ Resumed resumed_edits(size_t held, uint32_t seed_rng) {
         std::vector<Checkpoint> checkpoints;
         InOrder previous;
         analyse_first(path.string(), text, config, held, checkpoints, previous);
-        for (int k = 0; k < 6; ++k) {
-            const std::string edited = k % 2 ? edit_digit(text, rng) : mutate(text, rng);
+        for (int k = 0; k < 8; ++k) {
+            const std::string edited = k >= 6 ? edit_line_start(text, rng) : k % 2 ? edit_digit(text, rng) : mutate(text, rng);
             EngineStats stats;
             bool at = false, converged = false;
             const std::string got =
