@@ -507,7 +507,7 @@ void Walk::leave(const Block& b, const LineRef& line) {
 }
 
 std::optional<MacroCall> Walk::resolve(const Block& b, const ModalState& before) const {
-    std::optional<MacroCall> call = resolve_call(b, before, config_.catalog);
+    std::optional<MacroCall> call = resolve_call(b, before, config_.catalog, &arg_links_);
     if (call && options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty()) {
         // Asked once per name and file: a posted program calls the same few names again and again.
         auto [it, added] = summary_of_.try_emplace(call->name, nullptr);

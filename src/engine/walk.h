@@ -280,6 +280,7 @@ private:
     ProgramNames names_;              // this file's program names
     // The summaries of the subprograms (of this file or beside it) its CALLs reached, by name.
     mutable std::map<std::string, const SubprogramSummary*, std::less<>> summary_of_;
+    mutable ArgLinks arg_links_;  // the last call's argument links (link_arg_specs)
     const SubprogramSummary* local_summary(const std::string& name) const;  // of a program of this file
     mutable std::vector<std::pair<std::string, const SubprogramSummary*>> local_used_;  // FrozenWalk::local_used
     bool fingerprints_ = false;

@@ -65,10 +65,22 @@ struct MacroCall {
     const MacroArg* given(const ArgSpec& a) const;
 };
 
+// What link_arg_specs found for the argument names of the last call it
+// linked. A posted program writes the same call (macro and argument names,
+// in the same order) thousands of times: the next such call takes the links
+// without looking its names up. Valid while the catalog is (one per walk).
+struct ArgLinks {
+    const MacroSpec* spec = nullptr;
+    std::vector<std::string> names;
+    std::vector<const ArgSpec*> specs;
+    std::vector<uint16_t> given_index;
+};
+
 // Looks up the catalog's argument of each of `call`'s arguments, so that
 // MacroCall::given compares pointers instead of names (it runs for every
-// argument of the spec, on every call, in several rules).
-void link_arg_specs(MacroCall& call);
+// argument of the spec, on every call, in several rules). `last`, when set,
+// is the previous call's links, and becomes this one's.
+void link_arg_specs(MacroCall& call, ArgLinks* last = nullptr);
 
 // One block as the analysis sees it.
 struct BlockView {

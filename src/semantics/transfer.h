@@ -21,8 +21,10 @@ ModalState initial_state(const Config& config, bool subprogram);
 // Applies one block to the state.
 void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state);
 
-// Resolves the macro or subprogram a block invokes, with evaluated arguments.
-std::optional<MacroCall> resolve_call(const Block& block, const ModalState& before, const Catalog& catalog);
+// Resolves the macro or subprogram a block invokes, with evaluated arguments
+// (`links`: see link_arg_specs).
+std::optional<MacroCall> resolve_call(const Block& block, const ModalState& before, const Catalog& catalog,
+                                      ArgLinks* links = nullptr);
 
 // The state that flows from a block to its successors: `after` (apply_block's
 // result), merged with `before` when the block may be skipped (BLOCK SKIP on

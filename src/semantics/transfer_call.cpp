@@ -124,7 +124,14 @@ std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState
 
 }  // namespace
 
-void link_arg_specs(MacroCall& call) {
+void link_arg_specs(MacroCall& call, ArgLinks* last) {
+    if (last && call.spec && last->spec == call.spec && last->names.size() == call.args.size() &&
+        std::equal(call.args.begin(), call.args.end(), last->names.begin(),
+                   [](const MacroArg& a, const std::string& n) { return a.name == n; })) {
+        for (size_t k = 0; k < call.args.size(); ++k) call.args[k].spec = last->specs[k];
+        call.given_index = last->given_index;
+        return;
+    }
     call.given_index.clear();
     if (call.spec) call.given_index.assign(call.spec->args.size(), 0);
     // given_index holds uint16_t: a call of more arguments is looked up by name.
@@ -143,6 +150,15 @@ void link_arg_specs(MacroCall& call) {
         uint16_t& slot = call.given_index[static_cast<size_t>(a - call.spec->args.data())];
         slot = slot ? MacroCall::kGivenTwice : static_cast<uint16_t>(k + 1);
     }
+    if (!last || !call.spec) return;
+    last->spec = call.spec;
+    last->names.resize(call.args.size());
+    last->specs.resize(call.args.size());
+    for (size_t k = 0; k < call.args.size(); ++k) {
+        last->names[k] = call.args[k].name;
+        last->specs[k] = call.args[k].spec;
+    }
+    last->given_index = call.given_index;
 }
 
 const MacroArg* MacroCall::given(const ArgSpec& a) const {
@@ -160,17 +176,18 @@ const MacroArg* MacroCall::given(const ArgSpec& a) const {
     return nullptr;
 }
 
-std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog) {
+std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog,
+                                      ArgLinks* links) {
     if (b.kind != LineKind::Block) return std::nullopt;
     const Statement* st = b.statement(StmtKind::Call);
     if (!st) st = b.statement(StmtKind::Modin);
     MacroCall call = st ? statement_call(b, *st, catalog) : code_call(b, catalog);
     if (call.kind == CallKind::None) {
         std::optional<MacroCall> positioning = modin_positioning_call(b, before, catalog);
-        if (positioning) link_arg_specs(*positioning);
+        if (positioning) link_arg_specs(*positioning, links);
         return positioning;
     }
-    link_arg_specs(call);
+    link_arg_specs(call, links);
     for (auto& a : call.args)
         if (a.word)
             if (auto v = word_value(b, *a.word, before)) a.value = Val<double>::of(*v);
