@@ -87,7 +87,7 @@ struct SweepState {
     uint32_t index = 0;  // of the block in the loop
     bool loop_changed = false;
     // The block the walk read next (after the loop, when the sweep ended);
-    // kChanged when an edit of that line moved the state here.
+    // kChanged in a state moved through an edit that changed that line.
     uint32_t next = 0;
     static constexpr uint32_t kChanged = UINT32_MAX;
     uint32_t next_line = 0;
