@@ -329,18 +329,14 @@ bool same_before(const SweepState& a, const SweepState& b, uint32_t head, uint32
 bool same_structure(const FileOutline& old, const FileOutline& now, size_t upto, const TextChange& e) {
     if (old.programs.size() != now.programs.size() || old.directives.size() != now.directives.size()) return false;
     if (e.prefix > old.size || e.suffix > old.size - e.prefix) return false;
-    auto at = [&](uint32_t offset, uint32_t expected) {
-        const auto m = moved(offset, old.size, e);
+    // Whether `offset`, moved by `move` (moved, moved_block or moved_line_end), is `expected`.
+    auto lands = [&](auto move, uint32_t offset, uint32_t expected) {
+        const std::optional<uint32_t> m = move(offset, old.size, e);
         return m && *m == expected;
     };
-    auto block_at = [&](uint32_t offset, uint32_t expected) {
-        const auto m = moved_block(offset, old.size, e);
-        return m && *m == expected;
-    };
-    auto line_end_at = [&](uint32_t offset, uint32_t expected) {
-        const auto m = moved_line_end(offset, old.size, e);
-        return m && *m == expected;
-    };
+    auto at = [&](uint32_t offset, uint32_t expected) { return lands(moved, offset, expected); };
+    auto block_at = [&](uint32_t offset, uint32_t expected) { return lands(moved_block, offset, expected); };
+    auto line_end_at = [&](uint32_t offset, uint32_t expected) { return lands(moved_line_end, offset, expected); };
     auto line_at = [&](uint32_t offset, uint32_t line, uint32_t expected) {
         return offset < e.prefix ? line == expected : static_cast<int64_t>(line) + e.lines == expected;
     };
