@@ -352,24 +352,278 @@ private:
     DiagnosticSink& next_;
 };
 
-}  // namespace
-
-int run_check(const CheckOptions& given) {
-    const CheckOptions o = resolve_selection(given);
+// The --exclude patterns, once the options that go together are checked.
+std::vector<PathPattern> check_usage(const CheckOptions& o) {
     validate_selection(o);
     if (o.statistics && o.format != "text") throw std::runtime_error("--statistics prints text: it takes no --format");
     if (o.diff && (o.format != "text" || o.statistics || !o.baseline.empty() || !o.write_baseline.empty()))
         throw std::runtime_error("--diff prints a diff: it takes no --format, --statistics, --baseline or --write-baseline");
-    const bool fixing = o.fix || o.diff;
-    const bool fix_writes = o.fix && !o.diff;  // --fix --diff shows the diff and writes nothing
-    std::vector<PathPattern> cli_exclude;  // --exclude: relative to the working directory
+    std::vector<PathPattern> exclude;  // relative to the working directory
     for (const auto& p : o.exclude) {
         std::string_view why;
         if (!glob_valid(p, &why)) throw std::runtime_error("--exclude '" + p + "': " + std::string(why));
         std::string pattern = p;
         while (pattern.size() > 2 && pattern.compare(0, 2, "./") == 0) pattern.erase(0, 2);
-        cli_exclude.push_back({pattern, fs::path("."), "--exclude"});
+        exclude.push_back({pattern, fs::path("."), "--exclude"});
     }
+    return exclude;
+}
+
+// Each checked file's configuration: one file for everything (--config),
+// else the nearest osplint.toml of the file's directory (for stdin: of
+// --stdin-filename's), with the [[per-path]] tables that match the file,
+// then --select / --ignore. A broken osplint.toml is reported once, the
+// files it applies to are not checked (no configuration), and the others are.
+class Configurations {
+public:
+    Configurations(const CheckOptions& o, std::vector<PathPattern> exclude) : o_(o), exclude_(std::move(exclude)) {
+        if (!o.config.empty()) fixed_ = std::make_shared<Config>(load_config(o.config));
+    }
+
+    fs::path dir_of(const std::string& file) const {
+        fs::path dir = file == "-" ? (o_.stdin_filename.empty() ? fs::path(".") : fs::path(o_.stdin_filename).parent_path())
+                                   : fs::path(file).parent_path();
+        if (dir.empty()) dir = ".";
+        return dir;
+    }
+
+    // What a directory walk skips: --exclude, and the `exclude` of the
+    // configuration that applies there.
+    bool excluded(const fs::path& p) {
+        for (const auto& e : exclude_)
+            if (path_matches(e, p)) return true;
+        fs::path dir = p.parent_path();
+        if (dir.empty()) dir = ".";
+        const auto c = of_dir(dir);
+        return c && c->excluded(p);
+    }
+
+    // Null when the file's osplint.toml has an error.
+    std::shared_ptr<Config> for_file(const std::string& file) {
+        const fs::path dir = dir_of(file);
+        auto base = of_dir(dir);
+        if (!base) return nullptr;
+        const fs::path named = file == "-" ? (o_.stdin_filename.empty() ? fs::path() : fs::path(o_.stdin_filename))
+                                           : fs::path(file);
+        const std::vector<size_t> tables = named.empty() ? std::vector<size_t>{} : base->per_path_matching(named);
+        std::string key = (fixed_ ? std::string("\n") : dir.string()) + "\n";
+        for (size_t t : tables) key += std::to_string(t) + ",";
+        if (auto it = by_file_kind_.find(key); it != by_file_kind_.end()) return it->second;
+        auto c = std::make_shared<Config>(*base);
+        c->apply_per_path(tables);
+        apply_selection(*c, o_);
+        by_file_kind_[key] = c;
+        return c;
+    }
+
+    // One message per broken configuration file.
+    std::vector<std::string> errors() const {
+        std::vector<std::string> out;
+        for (const auto& [file, error] : broken_) out.push_back("configuration error: " + error);
+        return out;
+    }
+    // Why a file without a configuration is not checked.
+    std::string not_checked(const std::string& file) const {
+        const auto it = broken_by_dir_.find(dir_of(file).string());
+        return "not checked: its configuration " + (it == broken_by_dir_.end() ? std::string() : it->second) +
+               " has an error";
+    }
+
+private:
+    // As read, before [[per-path]] and the selection.
+    std::shared_ptr<Config> of_dir(const fs::path& dir) {
+        if (fixed_) return fixed_;
+        const std::string key = dir.string();
+        if (auto it = by_dir_.find(key); it != by_dir_.end()) return it->second;
+        auto c = std::make_shared<Config>();
+        if (auto f = find_config(dir)) {
+            try {
+                *c = load_config(*f);
+            } catch (const ConfigError& e) {
+                broken_.emplace(f->string(), e.what());
+                broken_by_dir_[key] = f->string();
+                c = nullptr;
+            }
+        }
+        by_dir_[key] = c;
+        return c;
+    }
+
+    const CheckOptions& o_;
+    std::vector<PathPattern> exclude_;
+    std::shared_ptr<Config> fixed_;
+    std::map<std::string, std::string> broken_;  // configuration file -> its error
+    std::map<std::string, std::string> broken_by_dir_;
+    std::map<std::string, std::shared_ptr<Config>> by_dir_;
+    std::map<std::string, std::shared_ptr<Config>> by_file_kind_;
+};
+
+// What the check knows beside each file's own text: the program names the
+// checked files and the subprogram files (.SSB/.SUB/.LIB/.MSB) beside them
+// define (for unknown-subprogram checks), and standard input.
+struct KnownPrograms {
+    ProgramNames names;
+    SubprogramDirectories directories;
+    int stdin_fd = -1;  // stdin copied to an unlinked temporary file: read twice, never held
+    std::string stdin_error;
+};
+
+void gather_programs(const std::vector<std::string>& files, const Configurations& configs, unsigned jobs,
+                     KnownPrograms& out) {
+    bool have_stdin = false;
+    std::map<std::string, bool> scanned_dirs;
+    // A file checked alone needs no pass of its own: the names it defines
+    // matter to the other checked files, and the check finds its own names.
+    const bool alone = files.size() == 1;
+    std::vector<std::string> to_scan;
+    for (const auto& f : files) {
+        fs::path dir = configs.dir_of(f);
+        if (!scanned_dirs[dir.string()]) {
+            scanned_dirs[dir.string()] = true;
+            out.directories.add_names(dir, out.names);
+        }
+        if (f == "-") {
+            if (!have_stdin) {
+                out.stdin_fd = spool_to_temporary_file(STDIN_FILENO, out.stdin_error);  // reported when checked
+                have_stdin = true;
+            }
+            if (out.stdin_fd >= 0 && !alone) {
+                FdSource src(out.stdin_fd, std::nullopt);
+                add_program_names(src, out.names);
+            }
+            continue;
+        }
+        std::error_code ec;
+        if (!alone && fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32)) to_scan.push_back(f);
+    }
+    // The checked files' own names, read by as many threads as the check uses.
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    const size_t n = std::min<size_t>(jobs ? jobs : cores, to_scan.size());
+    std::atomic<size_t> next{0};
+    std::mutex mu;
+    auto scan = [&] {
+        ProgramNames found;
+        for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) add_program_names(fs::path(to_scan[i]), found);
+        std::lock_guard<std::mutex> lock(mu);
+        out.names.merge(found);
+    };
+    if (n >= 1) {
+        const std::string error = run_on_threads(static_cast<unsigned>(n - 1), scan, scan);
+        if (!error.empty()) std::cerr << "osplint: note: " << error << "; fewer files were read at once\n";
+    }
+}
+
+// The chain the findings go through (output/pipeline.h), from the head the
+// checks write to: the baseline (recorded or applied), the files that could
+// not be read, counting, folding, the limit, then the writer(s), the rule
+// statistics or nothing (--diff).
+class ReportChain {
+public:
+    ReportChain(const CheckOptions& o, Format format, std::ostream& report, const WriterOptions& wo)
+        : writer(make_writer(format, report, wo)),
+          log(format == Format::Github && !o.diff && !o.statistics ? make_writer(Format::Text, std::cerr, wo) : nullptr),
+          tee(log ? std::make_unique<TeeSink>(*writer, *log) : nullptr),
+          limit(o.diff ? static_cast<DiagnosticSink&>(discard)
+                : o.statistics ? static_cast<DiagnosticSink&>(statistics)
+                : tee ? static_cast<DiagnosticSink&>(*tee)
+                      : *writer,
+                o.statistics ? 0 : o.max_findings, counts),
+          has_baseline(!o.write_baseline.empty() || !o.baseline.empty()),
+          fold(limit, has_baseline ? fold_after(o) : 0, counts),
+          count(fold, counts),
+          unreadable(count) {
+        if (!o.write_baseline.empty()) {
+            recorder.emplace(unreadable, recorded, o.write_baseline);
+            head_ = &*recorder;
+        } else if (!o.baseline.empty()) {
+            filter.emplace(unreadable, load_baseline(o.baseline), o.baseline);
+            head_ = &*filter;
+        }
+    }
+    DiagnosticSink& head() { return *head_; }
+    // Folding is the engine's, which then need not build the findings it
+    // only counts; after the baseline when there is one (it must see every
+    // finding).
+    uint64_t engine_fold(const CheckOptions& o) const { return has_baseline ? 0 : fold_after(o); }
+
+    std::unique_ptr<ReportWriter> writer;
+    std::unique_ptr<ReportWriter> log;  // GitHub: the annotations are for the pull request, the log gets the text
+    std::unique_ptr<TeeSink> tee;
+    RuleStatistics statistics;
+    DiscardFindings discard;  // --diff: the diff is the report
+    Counts counts;
+    LimitSink limit;
+    const bool has_baseline;
+    FoldingSink fold;
+    CountingSink count;
+    Unreadable unreadable;
+    Baseline recorded;
+    std::optional<BaselineFilter> filter;
+    std::optional<BaselineRecorder> recorder;
+
+private:
+    // --statistics counts every finding.
+    static uint64_t fold_after(const CheckOptions& o) { return o.statistics ? 0 : o.fold; }
+    DiagnosticSink* head_ = &unreadable;
+};
+
+// --fix / --diff: each file's diff on the report, what went wrong in
+// `errors`, and the count on standard error. Returns the fixes (applied or
+// that would be).
+uint64_t report_fixes(const CheckOptions& o, const std::vector<std::string>& files, const std::string& stdin_name,
+                      std::vector<FixOutcome>& outcomes, std::ostream& report, std::vector<std::string>& errors) {
+    uint64_t fixes = 0, fixed_files = 0;
+    DiffStats diff_total;
+    for (size_t i = 0; i < outcomes.size(); ++i) {
+        auto& f = outcomes[i];
+        const std::string& path = files[i] == "-" ? stdin_name : files[i];
+        if (f.fixes) ++fixed_files;
+        fixes += f.fixes;
+        if (f.diff) {
+            diff_total.hunks += f.stats.hunks;
+            diff_total.added += f.stats.added;
+            diff_total.removed += f.stats.removed;
+            if (!f.diff->drain([&](std::string_view piece) { report.write(piece.data(), static_cast<std::streamsize>(piece.size())); }))
+                errors.push_back(path + ": the diff could not be read back: " + f.diff->error());
+        }
+        if (!f.error.empty()) errors.push_back(path + ": " + f.error);
+        if (!f.note.empty() && !o.quiet) std::cerr << "osplint: " << path << ": not fixed: " << f.note << "\n";
+    }
+    if ((o.fix || o.diff) && !o.quiet) {
+        auto plural = [](uint64_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); };
+        if (o.diff)
+            std::cerr << "osplint: " << plural(fixes, "fix", "fixes") << " in " << plural(fixed_files, "file", "files")
+                      << (fixes ? " would be applied (" + plural(diff_total.hunks, "hunk", "hunks") + ")" : " to apply") << "\n";
+        else
+            std::cerr << "osplint: applied " << plural(fixes, "fix", "fixes") << " in " << plural(fixed_files, "file", "files")
+                      << "\n";
+    }
+    return fixes;
+}
+
+// --write-baseline: written only when every file could be read (a file that
+// could not be read would lose its entries).
+void write_recorded_baseline(const CheckOptions& o, Baseline& recorded, bool io_failed, std::vector<std::string>& errors) {
+    if (io_failed) {
+        errors.push_back("the baseline " + o.write_baseline + " was not written: some files could not be read");
+        return;
+    }
+    std::sort(recorded.entries.begin(), recorded.entries.end(), [](const BaselineEntry& x, const BaselineEntry& y) {
+        return std::tie(x.path, x.rule, x.fingerprint) < std::tie(y.path, y.rule, y.fingerprint);
+    });
+    write_baseline(recorded, o.write_baseline);
+    if (!o.quiet)
+        std::cerr << "osplint: recorded " << recorded.entries.size() << " finding"
+                  << (recorded.entries.size() == 1 ? "" : "s") << " in " << o.write_baseline << "\n";
+}
+
+}  // namespace
+
+int run_check(const CheckOptions& given) {
+    const CheckOptions o = resolve_selection(given);
+    Configurations configurations(o, check_usage(o));
+    const bool fixing = o.fix || o.diff;
+    const bool fix_writes = o.fix && !o.diff;  // --fix --diff shows the diff and writes nothing
     std::ofstream output_file;
     if (!o.output_file.empty()) {
         output_file.open(o.output_file, std::ios::binary | std::ios::trunc);
@@ -384,135 +638,25 @@ int run_check(const CheckOptions& given) {
     std::vector<std::string> errors;
     const std::string stdin_name = o.stdin_filename.empty() ? std::string("<stdin>") : o.stdin_filename;
 
-    // Configuration: one file for everything (--config), else the nearest
-    // osplint.toml of each file's directory (for stdin: of --stdin-filename's).
-    std::shared_ptr<Config> fixed;
-    if (!o.config.empty()) fixed = std::make_shared<Config>(load_config(o.config));
-    auto dir_of = [&](const std::string& file) {
-        fs::path dir = file == "-" ? (o.stdin_filename.empty() ? fs::path(".") : fs::path(o.stdin_filename).parent_path())
-                                   : fs::path(file).parent_path();
-        if (dir.empty()) dir = ".";
-        return dir;
-    };
-    // A broken osplint.toml is reported once, the files it applies to are not
-    // checked (null configuration), and the others are.
-    std::map<std::string, std::string> broken;  // configuration file -> its error
-    std::map<std::string, std::string> broken_by_dir;
-    std::map<std::string, std::shared_ptr<Config>> by_dir;  // as read, before [[per-path]] and the selection
-    auto config_of_dir = [&](const fs::path& dir) -> std::shared_ptr<Config> {
-        if (fixed) return fixed;
-        const std::string key = dir.string();
-        if (auto it = by_dir.find(key); it != by_dir.end()) return it->second;
-        auto c = std::make_shared<Config>();
-        if (auto f = find_config(dir)) {
-            try {
-                *c = load_config(*f);
-            } catch (const ConfigError& e) {
-                broken.emplace(f->string(), e.what());
-                broken_by_dir[key] = f->string();
-                c = nullptr;
-            }
-        }
-        by_dir[key] = c;
-        return c;
-    };
-    // What a directory walk skips: --exclude, and the `exclude` of the
-    // configuration that applies there.
-    auto excluded = [&](const fs::path& p) {
-        for (const auto& e : cli_exclude)
-            if (path_matches(e, p)) return true;
-        fs::path dir = p.parent_path();
-        if (dir.empty()) dir = ".";
-        const auto c = config_of_dir(dir);
-        return c && c->excluded(p);
-    };
+    auto excluded = [&](const fs::path& p) { return configurations.excluded(p); };
     std::vector<std::string> files = expand_paths(o.paths, errors, excluded, o.force_exclude);
     // --force-exclude: standard input is left out too when --stdin-filename matches.
     if (o.force_exclude && !o.stdin_filename.empty() && excluded(fs::path(o.stdin_filename)))
         files.erase(std::remove(files.begin(), files.end(), std::string("-")), files.end());
-    // Each file's configuration: its directory's, with the [[per-path]] tables
-    // that match it, then --select / --ignore.
-    std::map<std::string, std::shared_ptr<Config>> by_file_kind;
-    auto config_for = [&](const std::string& file) -> std::shared_ptr<Config> {
-        const fs::path dir = dir_of(file);
-        auto base = config_of_dir(dir);
-        if (!base) return nullptr;
-        const fs::path named = file == "-" ? (o.stdin_filename.empty() ? fs::path() : fs::path(o.stdin_filename))
-                                           : fs::path(file);
-        const std::vector<size_t> tables = named.empty() ? std::vector<size_t>{} : base->per_path_matching(named);
-        std::string key = (fixed ? std::string("\n") : dir.string()) + "\n";
-        for (size_t t : tables) key += std::to_string(t) + ",";
-        if (auto it = by_file_kind.find(key); it != by_file_kind.end()) return it->second;
-        auto c = std::make_shared<Config>(*base);
-        c->apply_per_path(tables);
-        apply_selection(*c, o);
-        by_file_kind[key] = c;
-        return c;
-    };
     std::vector<std::shared_ptr<Config>> configs;
     configs.reserve(files.size());
-    for (const auto& f : files) configs.push_back(config_for(f));
-    for (const auto& [file, error] : broken) errors.push_back("configuration error: " + error);
+    for (const auto& f : files) configs.push_back(configurations.for_file(f));
+    for (auto& e : configurations.errors()) errors.push_back(std::move(e));
     std::vector<std::string> not_checked(files.size());  // why a file is not checked
     for (size_t i = 0; i < files.size(); ++i)
-        if (!configs[i])
-            not_checked[i] = "not checked: its configuration " + broken_by_dir[dir_of(files[i]).string()] +
-                             " has an error";
+        if (!configs[i]) not_checked[i] = configurations.not_checked(files[i]);
 
-    // Program names defined by the checked files and by the subprogram files
-    // (.SSB/.SUB/.LIB/.MSB) beside them, for unknown-subprogram checks.
-    int stdin_fd = -1;  // stdin copied to an unlinked temporary file: read twice, never held
-    std::string stdin_error;
-    bool have_stdin = false;
-    ProgramNames names;
-    SubprogramDirectories directories;
-    std::map<std::string, bool> scanned_dirs;
-    // A file checked alone needs no pass of its own: the names it defines
-    // matter to the other checked files, and the check finds its own names.
-    const bool alone = files.size() == 1;
-    std::vector<std::string> to_scan;
-    for (const auto& f : files) {
-        fs::path dir = dir_of(f);
-        if (!scanned_dirs[dir.string()]) {
-            scanned_dirs[dir.string()] = true;
-            directories.add_names(dir, names);
-        }
-        if (f == "-") {
-            if (!have_stdin) {
-                stdin_fd = spool_to_temporary_file(STDIN_FILENO, stdin_error);  // reported when checked
-                have_stdin = true;
-            }
-            if (stdin_fd >= 0 && !alone) {
-                FdSource src(stdin_fd, std::nullopt);
-                add_program_names(src, names);
-            }
-            continue;
-        }
-        std::error_code ec;
-        if (!alone && fs::is_regular_file(f, ec) && fs::file_size(f, ec) < (1ull << 32)) to_scan.push_back(f);
-    }
-    // The checked files' own names, read by as many threads as the check uses.
-    {
-        const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-        const size_t n = std::min<size_t>(o.jobs ? o.jobs : cores, to_scan.size());
-        std::atomic<size_t> next{0};
-        std::mutex mu;
-        auto scan = [&] {
-            ProgramNames found;
-            for (size_t i; (i = next.fetch_add(1)) < to_scan.size();) add_program_names(fs::path(to_scan[i]), found);
-            std::lock_guard<std::mutex> lock(mu);
-            names.merge(found);
-        };
-        if (n >= 1) {
-            const std::string error = run_on_threads(static_cast<unsigned>(n - 1), scan, scan);
-            if (!error.empty()) std::cerr << "osplint: note: " << error << "; fewer files were read at once\n";
-        }
-    }
-
+    KnownPrograms known;
+    gather_programs(files, configurations, o.jobs, known);
     AnalysisOptions options;
-    options.known_programs = &names;
+    options.known_programs = &known.names;
     // What the user subprograms beside the checked files leave behind.
-    SubprogramSummaries summaries(builtin_rules(), directories);
+    SubprogramSummaries summaries(builtin_rules(), known.directories);
     options.summaries = &summaries;
 
     auto use_color = [&](int fd) {
@@ -520,8 +664,6 @@ int run_check(const CheckOptions& given) {
         if (o.color == "always") return true;
         return o.color == "auto" && isatty(fd);
     };
-    // The chain the findings go through (output/pipeline.h): baseline,
-    // counting, folding, the limit, the writer(s).
     const Format format = *parse_format(o.format);
     WriterOptions wo;
     wo.color = use_color(format == Format::Github || program_on_stdout ? STDERR_FILENO : STDOUT_FILENO);
@@ -532,47 +674,14 @@ int run_check(const CheckOptions& given) {
         wo.side_views = &side_views;
         if (std::find(files.begin(), files.end(), "-") != files.end()) wo.stdin_path = stdin_name;
     }
-    std::unique_ptr<ReportWriter> writer = make_writer(format, report, wo);
-    std::unique_ptr<ReportWriter> log;  // GitHub: the annotations are for the pull request, the log gets the text
-    std::unique_ptr<TeeSink> tee;
-    DiagnosticSink* tail = writer.get();
-    RuleStatistics statistics;
-    DiscardFindings discard;  // --diff: the diff is the report
-    if (o.diff) {
-        tail = &discard;  // the diff is the report
-    } else if (o.statistics) {
-        tail = &statistics;
-    } else if (format == Format::Github) {
-        log = make_writer(Format::Text, std::cerr, wo);
-        tee = std::make_unique<TeeSink>(*writer, *log);
-        tail = tee.get();
-    }
-    Counts counts;
-    const uint64_t fold_after = o.statistics ? 0 : o.fold;  // --statistics counts every finding
-    LimitSink limit(*tail, o.statistics ? 0 : o.max_findings, counts);
-    // Folding: in the engine, which then need not build the findings it only
-    // counts; after the baseline when there is one (it must see every finding).
-    const bool baseline = !o.write_baseline.empty() || !o.baseline.empty();
-    options.fold = baseline ? 0 : fold_after;
-    FoldingSink fold(limit, baseline ? fold_after : 0, counts);
-    CountingSink count(fold, counts);
-    Unreadable unreadable(count);
-    DiagnosticSink* head = &unreadable;
-    std::optional<BaselineFilter> filter;
-    std::optional<BaselineRecorder> recorder;
-    Baseline recorded;
-    if (!o.write_baseline.empty()) {
-        recorder.emplace(*head, recorded, o.write_baseline);
-        head = &*recorder;
-    } else if (!o.baseline.empty()) {
-        filter.emplace(*head, load_baseline(o.baseline), o.baseline);
-        head = &*filter;
-    }
-    OrderedOutput ordered(*head, files.size());
+    ReportChain chain(o, format, report, wo);
+    options.fold = chain.engine_fold(o);
+    OrderedOutput ordered(chain.head(), files.size());
     const bool progress = !o.quiet && files.size() > 20 && isatty(STDERR_FILENO) &&
                           (!o.output_file.empty() || !isatty(STDOUT_FILENO));
     // --fix / --diff: each file's fixes are planned (and, with --fix,
     // written) by the worker that then checks it; stdin first, here.
+    int& stdin_fd = known.stdin_fd;  // fix_stdin may replace it with the fixed copy
     std::vector<FixOutcome> outcomes(fixing ? files.size() : 0);
     if (fixing)
         for (size_t i = 0; i < files.size(); ++i)
@@ -582,7 +691,7 @@ int run_check(const CheckOptions& given) {
         const std::string path = files[i] == "-" ? stdin_name : files[i];
         if (!not_checked[i].empty() || (files[i] == "-" && stdin_fd < 0)) {
             sink.begin_file(path);
-            sink.end_file(path, not_checked[i].empty() ? stdin_error : not_checked[i]);
+            sink.end_file(path, not_checked[i].empty() ? known.stdin_error : not_checked[i]);
             return;
         }
         if (fixing && files[i] != "-") {
@@ -603,66 +712,26 @@ int run_check(const CheckOptions& given) {
         check_files(files, configs, stdin_name, check_one, options, o.jobs, ordered, progress, o.engine_stats,
                     format == Format::Html ? &side_views : nullptr);
     if (stdin_fd >= 0) ::close(stdin_fd);
-    uint64_t fixes = 0, fixed_files = 0;
-    DiffStats diff_total;
-    for (size_t i = 0; i < outcomes.size(); ++i) {
-        auto& f = outcomes[i];
-        const std::string& path = files[i] == "-" ? stdin_name : files[i];
-        if (f.fixes) ++fixed_files;
-        fixes += f.fixes;
-        if (f.diff) {
-            diff_total.hunks += f.stats.hunks;
-            diff_total.added += f.stats.added;
-            diff_total.removed += f.stats.removed;
-            if (!f.diff->drain([&](std::string_view piece) { report.write(piece.data(), static_cast<std::streamsize>(piece.size())); }))
-                errors.push_back(path + ": the diff could not be read back: " + f.diff->error());
-        }
-        if (!f.error.empty()) errors.push_back(path + ": " + f.error);
-        if (!f.note.empty() && !o.quiet) std::cerr << "osplint: " << path << ": not fixed: " << f.note << "\n";
-    }
-    if (fixing && !o.quiet) {
-        auto plural = [](uint64_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); };
-        if (o.diff)
-            std::cerr << "osplint: " << plural(fixes, "fix", "fixes") << " in " << plural(fixed_files, "file", "files")
-                      << (fixes ? " would be applied (" + plural(diff_total.hunks, "hunk", "hunks") + ")" : " to apply") << "\n";
-        else
-            std::cerr << "osplint: applied " << plural(fixes, "fix", "fixes") << " in " << plural(fixed_files, "file", "files")
-                      << "\n";
-    }
-    if (o.statistics) statistics.write(report);
+    const uint64_t fixes = report_fixes(o, files, stdin_name, outcomes, report, errors);
+    if (o.statistics) chain.statistics.write(report);
     // --quiet: the text formats' summary line is left out; JSON and SARIF
     // end their document.
     const bool summary_only = format == Format::Text || format == Format::Github;
-    if (!(o.quiet && summary_only) && !o.diff) writer->finish(counts);
-    if (log && !o.quiet) log->finish(counts);
+    if (!(o.quiet && summary_only) && !o.diff) chain.writer->finish(chain.counts);
+    if (chain.log && !o.quiet) chain.log->finish(chain.counts);
     report.flush();
     if (!o.output_file.empty() && !output_file) errors.push_back("the report could not be written to " + o.output_file);
     if (!pool_error.empty() && !o.quiet) std::cerr << "osplint: note: " << pool_error << "; fewer files were checked at once\n";
     for (const auto& e : ordered.errors()) errors.push_back("output lost: " + e);
-    for (const auto& e : unreadable.errors) errors.push_back(e);
+    for (const auto& e : chain.unreadable.errors) errors.push_back(e);
     const bool io_failed = !errors.empty();
-
-    // The baseline is written only when every file could be read: a file that
-    // could not be read would lose its entries.
-    if (recorder) {
-        if (io_failed) {
-            errors.push_back("the baseline " + o.write_baseline + " was not written: some files could not be read");
-        } else {
-            std::sort(recorded.entries.begin(), recorded.entries.end(), [](const BaselineEntry& x, const BaselineEntry& y) {
-                return std::tie(x.path, x.rule, x.fingerprint) < std::tie(y.path, y.rule, y.fingerprint);
-            });
-            write_baseline(recorded, o.write_baseline);
-            if (!o.quiet)
-                std::cerr << "osplint: recorded " << recorded.entries.size() << " finding"
-                          << (recorded.entries.size() == 1 ? "" : "s") << " in " << o.write_baseline << "\n";
-        }
-    }
+    if (chain.recorder) write_recorded_baseline(o, chain.recorded, io_failed, errors);
     for (const auto& e : errors) std::cerr << "osplint: " << e << "\n";
 
     if (io_failed) return 2;
     if (o.diff) return fixes ? 1 : 0;
     if (o.fail_on == "never") return 0;
-    return counts.at_least(*parse_severity(o.fail_on)) > 0 ? 1 : 0;
+    return chain.counts.at_least(*parse_severity(o.fail_on)) > 0 ? 1 : 0;
 }
 
 }  // namespace osplint::cli
