@@ -1,7 +1,9 @@
-// The walk of the analysis engine (engine.h), shared by its two parts:
+// The walk of the analysis engine (engine.h), shared by its parts:
 // engine.cpp walks programs, loops and blocks and hands the findings on;
 // checkpoints.cpp takes the walk's checkpoints, moves them to an edited text
-// and resumes the walk at one (also inside a loop). Internal to the engine.
+// (with moves.h) and resumes the walk at one (also inside a loop);
+// converge.cpp ends the walk early after an edit inside one line, where its
+// state is the previous analysis's again. Internal to the engine.
 #pragma once
 
 #include <algorithm>
