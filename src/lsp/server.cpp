@@ -548,7 +548,9 @@ void Server::collect_known(Model& m, const std::optional<std::string>& path) {
     }
 }
 
-void Server::update_model(Model& m, Job& job) {
+// The configuration of the job's document; a broken file is shown once, and
+// a changed one has the other documents analysed again.
+std::shared_ptr<const Config> Server::config_for(const Job& job) {
     auto lookup = configs_.get(config_dir(job.path));
     lookup.config = configs_.for_file(lookup.config, job.path);
     if (!lookup.error.empty()) {
@@ -565,6 +567,11 @@ void Server::update_model(Model& m, Job& job) {
             }
         cv_.notify_all();
     }
+    return lookup.config;
+}
+
+void Server::update_model(Model& m, Job& job) {
+    const std::shared_ptr<const Config> config = config_for(job);
     if (m.generation != job.generation) {
         Model fresh;
         fresh.generation = job.generation;
@@ -579,12 +586,12 @@ void Server::update_model(Model& m, Job& job) {
     ProgramNames known_before = std::move(m.known);
     collect_known(m, job.path);
     TextChange edit;
-    const bool resumable = m.config == lookup.config && known_before == m.known && !m.checkpoints.empty();
+    const bool resumable = m.config == config && known_before == m.known && !m.checkpoints.empty();
     if (resumable) edit = text_change(m.doc.text(), job.text);
     else m.checkpoints.clear();
     m.doc.set_text(std::move(job.text));
     m.version = job.version;
-    m.config = lookup.config;
+    m.config = config;
     m.hovered.reset();
 
     struct Produced final : DiagnosticSink {
@@ -636,20 +643,7 @@ void Server::update_model(Model& m, Job& job) {
             converged.reset();
         }
     }
-    // The findings made before the checkpoint the analysis started at stand.
-    if (resumed_at) m.produced.resize(std::min<size_t>(m.produced.size(), resumed_at->diagnostics));
-    else m.produced.clear();
-    for (auto& d : produced.out) m.produced.push_back(std::move(d));
-    for (auto& d : kept) m.produced.push_back(std::move(d));
-    m.diagnostics = m.produced;
-    std::stable_sort(m.diagnostics.begin(), m.diagnostics.end(), diagnostic_less);
-    {
-        std::vector<std::string> names;
-        for (const auto& p : m.doc.outline.programs)
-            if (!p.name.empty()) names.push_back(p.name);
-        std::lock_guard lock(m_);
-        m.program_names = std::move(names);
-    }
+    store_findings(m, resumed_at, produced.out, kept);
     if (options_.log_timing) {
         const auto t1 = Clock::now();
         auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
@@ -658,6 +652,24 @@ void Server::update_model(Model& m, Job& job) {
             (converged ? " to line " + std::to_string(converged->at.line) : std::string()) + ", " +
             std::to_string(m.diagnostics.size()) + " finding(s)");
     }
+}
+
+// The model's findings after an analysis: those made before the checkpoint
+// it started at, then the new ones, then those kept after where it ended
+// early; and the program names the document defines.
+void Server::store_findings(Model& m, const std::optional<CheckpointPlace>& resumed_at,
+                            std::vector<Diagnostic>& produced, std::vector<Diagnostic>& kept) {
+    if (resumed_at) m.produced.resize(std::min<size_t>(m.produced.size(), resumed_at->diagnostics));
+    else m.produced.clear();
+    for (auto& d : produced) m.produced.push_back(std::move(d));
+    for (auto& d : kept) m.produced.push_back(std::move(d));
+    m.diagnostics = m.produced;
+    std::stable_sort(m.diagnostics.begin(), m.diagnostics.end(), diagnostic_less);
+    std::vector<std::string> names;
+    for (const auto& p : m.doc.outline.programs)
+        if (!p.name.empty()) names.push_back(p.name);
+    std::lock_guard lock(m_);
+    m.program_names = std::move(names);
 }
 
 const BlockRecord* Server::block_of(Model& m, uint32_t line) {

@@ -172,6 +172,9 @@ private:
     void worker_loop();
     void run_job(Job& job, Model& m);
     void update_model(Model& m, Job& job);
+    std::shared_ptr<const Config> config_for(const Job& job);
+    void store_findings(Model& m, const std::optional<CheckpointPlace>& resumed_at, std::vector<Diagnostic>& produced,
+                        std::vector<Diagnostic>& kept);
     const BlockRecord* block_of(Model& m, uint32_t line);
     // `outdated` is set when the text changes: a walk for the answer stops.
     json answer(const Pending& p, Model& m, bool current, const std::atomic<bool>* outdated);
