@@ -28,23 +28,7 @@ std::string Walk::run() {
         sink_.end_file(path_, std::string(kUtf16Message));
         return std::string(kUtf16Message);
     }
-    // After an edit of a plain line, the outline of the text before it, moved
-    // (every checkpoint of the previous analysis holds that text's outline).
-    std::optional<FileOutline> moved;
-    if (options_.checkpoints && !options_.checkpoints->empty() && options_.checkpoints->front()->outline) {
-        const FileOutline& before = *options_.checkpoints->front()->outline;
-        const std::optional<uint64_t> size = src_.size();
-        if (size && static_cast<int64_t>(*size) == static_cast<int64_t>(before.size) + options_.edit.bytes)
-            moved = moved_outline(before, options_.edit);
-    }
-    if (moved) {
-        outline_ = std::move(*moved);
-        ++stats_.outlines_moved;
-    } else {
-        OutlineOptions oo;
-        oo.chunk_size = options_.chunk_size;
-        outline_ = outline_file(src_, oo);
-    }
+    make_outline();
     stats_.outline_lines_parsed += outline_.lines_parsed;
     if (options_.outline) *options_.outline = outline_;
     sink_.begin_file(path_);
@@ -75,24 +59,7 @@ std::string Walk::run() {
         shared_outline_ = std::make_shared<const FileOutline>(outline_);
         walk_summaries_ = std::make_shared<LocalSummaries>();
     }
-    if (options_.checkpoints && resume_from_checkpoints()) {
-        bool resumed = true;
-        if (resume_in_loop_) {
-            // Inside a loop: when the edit changed the states where its paths
-            // join, the walk starts before the loop after all.
-            const uint32_t head = resume_in_loop_->loop->head;
-            if (!resume_loop()) {
-                ++stats_.loop_resume_misses;
-                resumed = fall_back_before(head);
-            }
-            resume_in_loop_.reset();
-        }
-        if (resumed) {
-            walk_blocks();
-            end_program_walk();
-            first = program_index_ + 1;
-        }
-    }
+    if (options_.checkpoints) first = walk_resumed();
     for (size_t i = first; i < outline_.programs.size() && !stop_ && error_.empty(); ++i) walk_program(i);
     if (error_.empty() && !stop_ && main_.next_offset() != outline_.size) fail(kChangedMessage);
     // Written in place (same size) while it was read: the findings may be of neither text.
@@ -113,6 +80,49 @@ std::string Walk::run() {
     for (Diagnostic& d : filter_->finish()) sink_.diagnostic(std::move(d));
     sink_.end_file(path_, error_);
     return error_;
+}
+
+// The outline of the input. After an edit of a plain line, the outline of
+// the text before it, moved (every checkpoint of the previous analysis holds
+// that text's outline).
+void Walk::make_outline() {
+    std::optional<FileOutline> moved;
+    if (options_.checkpoints && !options_.checkpoints->empty() && options_.checkpoints->front()->outline) {
+        const FileOutline& before = *options_.checkpoints->front()->outline;
+        const std::optional<uint64_t> size = src_.size();
+        if (size && static_cast<int64_t>(*size) == static_cast<int64_t>(before.size) + options_.edit.bytes)
+            moved = moved_outline(before, options_.edit);
+    }
+    if (moved) {
+        outline_ = std::move(*moved);
+        ++stats_.outlines_moved;
+    } else {
+        OutlineOptions oo;
+        oo.chunk_size = options_.chunk_size;
+        outline_ = outline_file(src_, oo);
+    }
+}
+
+// After an edit: the walk from the last checkpoint of the previous analysis
+// it can start at to the end of that checkpoint's program. Returns the index
+// of the first program still to be walked (0: the walk starts at the start).
+size_t Walk::walk_resumed() {
+    if (!resume_from_checkpoints()) return 0;
+    if (resume_in_loop_) {
+        // Inside a loop: when the edit changed the states where its paths
+        // join, the walk starts before the loop after all.
+        const uint32_t head = resume_in_loop_->loop->head;
+        bool resumed = true;
+        if (!resume_loop()) {
+            ++stats_.loop_resume_misses;
+            resumed = fall_back_before(head);
+        }
+        resume_in_loop_.reset();
+        if (!resumed) return 0;
+    }
+    walk_blocks();
+    end_program_walk();
+    return program_index_ + 1;
 }
 
 void Walk::fail(std::string message) {
@@ -240,25 +250,12 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     loop_checkpoints_.clear();
 
     // First sweep, from the input: finds how far the loop reaches, holds its
-    // lines when they are few enough.
-    std::vector<HeldLine> held;
-    std::string held_text;
-    // A loop of more bytes than its blocks may be held in would not fit: it
-    // is not even tried (its extent only grows as the sweep finds more).
-    bool holding = options_.held_loop_blocks > 0 && extent - start <= options_.held_loop_blocks * kHeldBytesPerBlock;
-    auto hold = [&](const Block& b, const LineRef& l) {
-        if (!holding) return;
-        if (held.size() >= options_.held_loop_blocks) {
-            holding = false;
-            held.clear();
-            held_text.clear();
-            return;
-        }
-        held.push_back({b, l.line, l.start, static_cast<uint32_t>(l.text.size()),
-                        static_cast<uint32_t>(l.terminator.size())});
-        held_text.append(l.text);
-        held_text.append(l.terminator);
-    };
+    // lines when they are few enough. A loop of more bytes than its blocks may
+    // be held in would not fit: it is not even tried (its extent only grows
+    // as the sweep finds more).
+    HeldLoop held;
+    held.holding = options_.held_loop_blocks > 0 && extent - start <= options_.held_loop_blocks * kHeldBytesPerBlock;
+    auto hold = [&](const Block& b, const LineRef& l) { held.hold(b, l, options_.held_loop_blocks); };
     loop_changed_ = false;
     probes_.clear();
     join_stamps_.clear();
@@ -266,12 +263,8 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     hold(head, head_line);
     converged(start, 0, false);
     visit(head, head_line, Mode::Iterate);
-    if (first_sweep(1, extent, hold)) {
-        // It ended early (after an edit): its blocks were not all read.
-        holding = false;
-        held.clear();
-        held_text.clear();
-    }
+    if (first_sweep(1, extent, hold)) held.drop();  // it ended early (after an edit): not every block was read
+    const bool holding = held.holding;
     const uint64_t end = main_.next_offset();
     const uint32_t end_line = main_.next_line();
     ++stats_.loop_sweeps;
@@ -306,7 +299,7 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     while (!stop_ && loop_changed_) {
         loop_changed_ = false;
         set_state(entry);
-        const bool whole = holding ? sweep_held(held, held_text, Mode::Iterate)
+        const bool whole = holding ? sweep_held(held.lines, held.text, Mode::Iterate)
                                    : sweep_file(start, start_line, end, Mode::Iterate);
         ++stats_.loop_sweeps;
         // A sweep that converged early would end as the one before it did.
@@ -315,7 +308,7 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     // Once more, with the rules.
     if (!stop_) {
         set_state(entry);
-        if (holding) sweep_held(held, held_text, Mode::Rules);
+        if (holding) sweep_held(held.lines, held.text, Mode::Rules);
         else sweep_file(start, start_line, end, Mode::Rules);
         leave_sweep();
         set_state(out);

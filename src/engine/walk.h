@@ -67,6 +67,28 @@ struct HeldLine {
     uint32_t terminator_size = 0;
 };
 
+// The lines of a loop held in memory by its first sweep, while they are few
+// enough (EngineOptions::held_loop_blocks): its other sweeps cost no parsing.
+struct HeldLoop {
+    std::vector<HeldLine> lines;
+    std::string text;  // the lines' text and terminators, one after the other
+    bool holding = false;
+
+    void hold(const Block& b, const LineRef& l, size_t max_blocks) {
+        if (!holding) return;
+        if (lines.size() >= max_blocks) return drop();
+        lines.push_back({b, l.line, l.start, static_cast<uint32_t>(l.text.size()),
+                         static_cast<uint32_t>(l.terminator.size())});
+        text.append(l.text);
+        text.append(l.terminator);
+    }
+    void drop() {
+        holding = false;
+        lines.clear();
+        text.clear();
+    }
+};
+
 // When a sweep last entered a join, and when what flows into it last changed.
 struct JoinStamps {
     uint64_t entered = 0;
@@ -226,6 +248,8 @@ private:
     void fail(std::string message);
 
     // --- the walk
+    void make_outline();
+    size_t walk_resumed();
     void walk_program(size_t index);
     void walk_blocks();
     void end_program_walk();
