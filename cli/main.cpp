@@ -209,6 +209,37 @@ void suggest_after_usage_error(const CLI::App& app, int argc, char** argv) {
     }
 }
 
+// What a command wrote to standard output must have been written: a full
+// disk or a closed descriptor is an error (exit 2), never a silent loss.
+int output_written(int code) {
+    errno = 0;
+    std::cout.flush();
+    const bool failed = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout);
+    if (!failed) return code;
+    const int e = errno;
+    std::string why = e ? std::strerror(e) : "write error";
+    if (::fcntl(STDOUT_FILENO, F_GETFD) == -1) why = "standard output is closed";
+    std::cerr << "osplint: the report could not be written to standard output: " << why << "\n";
+    return 2;
+}
+
+// `osplint config`: the configuration --config names, or the one that
+// applies in `dir`, with every default filled in.
+int cmd_config(const std::string& config_file, const std::string& dir) {
+    Config c;
+    std::error_code ec;
+    if (!config_file.empty()) {
+        c = load_config(config_file);
+    } else if (!fs::is_directory(dir, ec)) {
+        std::cerr << "osplint: " << dir << (fs::exists(dir, ec) ? ": not a directory" : ": no such directory") << "\n";
+        return 2;
+    } else if (auto f = find_config(dir)) {
+        c = load_config(*f);
+    }
+    std::cout << dump_config(c);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -260,40 +291,13 @@ int main(int argc, char** argv) {
         std::cout.flush();
         return std::cout ? 0 : 2;
     }
-    // What a command wrote to standard output must have been written: a full
-    // disk or a closed descriptor is an error (exit 2), never a silent loss.
-    auto output_written = [](int code) {
-        errno = 0;
-        std::cout.flush();
-        const bool failed = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout);
-        if (!failed) return code;
-        const int e = errno;
-        std::string why = e ? std::strerror(e) : "write error";
-        if (::fcntl(STDOUT_FILENO, F_GETFD) == -1) why = "standard output is closed";
-        std::cerr << "osplint: the report could not be written to standard output: " << why << "\n";
-        return 2;
-    };
     try {
         if (*check_cmd) return output_written(cli::run_check(check));
         if (*rules_cmd) return output_written(cmd_rules(rules_format));
         if (*explain_cmd) return output_written(cmd_explain(explain_what));
         if (*trace_cmd) return output_written(cli::run_trace(trace));
         if (*lsp_cmd) return cli::run_lsp();
-        if (*config_cmd) {
-            Config c;
-            std::error_code ec;
-            if (!config_file.empty()) {
-                c = load_config(config_file);
-            } else if (!fs::is_directory(config_dir, ec)) {
-                std::cerr << "osplint: " << config_dir
-                          << (fs::exists(config_dir, ec) ? ": not a directory" : ": no such directory") << "\n";
-                return 2;
-            } else if (auto f = find_config(config_dir)) {
-                c = load_config(*f);
-            }
-            std::cout << dump_config(c);
-            return output_written(0);
-        }
+        if (*config_cmd) return output_written(cmd_config(config_file, config_dir));
     } catch (const ConfigError& e) {
         std::cerr << "osplint: configuration error: " << e.what() << "\n";
         return 2;
