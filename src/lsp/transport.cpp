@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <optional>
 
 namespace osplint::lsp {
 
@@ -170,6 +171,21 @@ ReadResult FrameReader::refuse(std::string problem) {
     return r;
 }
 
+namespace {
+// The value of a Content-Length header: decimal digits, at most
+// kMaxContentLength; nullopt for anything else.
+std::optional<std::size_t> content_length(std::string_view value) {
+    if (value.empty() || value.size() > 12) return std::nullopt;
+    std::size_t n = 0;
+    for (char c : value) {
+        if (c < '0' || c > '9') return std::nullopt;
+        n = n * 10 + static_cast<std::size_t>(c - '0');
+    }
+    if (n > kMaxContentLength) return std::nullopt;
+    return n;
+}
+}  // namespace
+
 ReadResult FrameReader::next() {
     bool have_headers = false;
     bool have_length = false;
@@ -242,23 +258,11 @@ ReadResult FrameReader::next() {
         have_headers = true;
         if (is_length) {
             const std::string_view value = trim(line.substr(colon + 1));
-            bool ok = !value.empty() && value.size() <= 12;
-            std::size_t n = 0;
-            for (char c : value) {
-                if (c < '0' || c > '9') {
-                    ok = false;
-                    break;
-                }
-                n = n * 10 + static_cast<std::size_t>(c - '0');
-            }
-            if (ok && n <= kMaxContentLength) {
-                have_length = true;
-                length = n;
-                bad_length.clear();
-            } else {
-                have_length = false;
-                bad_length = value.empty() ? std::string("(empty)") : std::string(value);
-            }
+            const std::optional<std::size_t> n = content_length(value);
+            have_length = n.has_value();
+            length = n.value_or(0);
+            if (n) bad_length.clear();
+            else bad_length = value.empty() ? std::string("(empty)") : std::string(value);
         }
         pos_ = eol + 1;
     }
