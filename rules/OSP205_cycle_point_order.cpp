@@ -57,62 +57,9 @@ public:
         const bool incremental = v.after.distance.value == Distance::Incremental;
         const std::string name = fmt::format("G{}", c->code);
 
-        std::string problem;
-        Val<double> i_point = v.before.axis(axis);
-        if (incremental) {
-            if (!c->r.known || !c->z.known) return;
-            const double r = c->r.value, z = c->z.value;
-            const bool down = r <= 0 && z < 0, up = r >= 0 && z > 0;
-            if (down || (!g17 && up)) {
-                last_.reset();
-                return;
-            }
-            if (!dedupe(c, Val<double>{}, r, z, true)) return;
-            problem = fmt::format(
-                "under G91 R is measured from the initial point and Z from the R point ({}), so R "
-                "must be 0 or negative and Z negative{}; here R{} and {}{}{}",
-                cite("fixed-cycles/g91"),
-                g17 ? "" : " (or both positive for a cycle axis pointing the other way)", num(r), axis_name,
-                num(z),
-                r > 0 && z < 0 ? ": R above the initial point raises an alarm (" + cite("fixed-cycles/alarms") + ")"
-                : z == 0       ? ": Z0 leaves no depth to machine"
-                               : ": the hole bottom is not below the R point");
-        } else {
-            if (!c->r.known) return;
-            const double r = c->r.value;
-            const bool have_z = c->z.known;
-            const double z = have_z ? c->z.value : 0;
-            auto ordered = [&](double hi, double lo, bool strict) { return strict ? hi > lo : hi >= lo; };
-            auto check = [&](bool downwards) {
-                // downwards: I >= R > Z; upwards (G18/G19 only): I <= R < Z
-                bool ok = true;
-                if (i_point.known)
-                    ok = ok && (downwards ? ordered(i_point.value, r, false) : ordered(r, i_point.value, false));
-                if (have_z) ok = ok && (downwards ? ordered(r, z, true) : ordered(z, r, true));
-                return ok;
-            };
-            if (check(true) || (!g17 && check(false))) {
-                last_.reset();
-                return;
-            }
-            if (!dedupe(c, i_point, r, z, have_z)) return;
-            const bool g99 = v.after.cycle_return.is(CycleReturn::R) && c->start_line != b.line;
-            std::string i_text = i_point.known
-                                     ? fmt::format("initial point {}{}", axis_name, num(i_point.value)) +
-                                           (g99 ? " (under G99 the previous block's " + axis_name + " is the initial point)"
-                                                : std::string())
-                                     : std::string("initial point unknown");
-            if (i_point.known && r > i_point.value && (!have_z || r > z))
-                problem = fmt::format("R{} is above the {}: the control stops with an alarm ({}); "
-                                      "start the cycle from above R, or lower R",
-                                      num(r), i_text, cite("fixed-cycles/alarms"));
-            else
-                problem = fmt::format("the hole bottom {}{} is not below R{} ({}): the points must be in the "
-                                      "order I > R > Z ({}), otherwise the cycle machines nothing "
-                                      "or feeds the wrong way; Z is the final depth",
-                                      axis_name, num(z), num(r), i_text,
-                                      cite({"fixed-cycles/basic", "fixed-cycles/alarms"}));
-        }
+        const std::string problem = incremental ? incremental_problem(*c, axis_name, g17)
+                                                : absolute_problem(v, *c, axis_name, g17);
+        if (problem.empty()) return;
         ByteRange where = r_word ? r_word->range : z_word ? z_word->range : !c->start_range.empty() &&
                                                                                   c->start_line == b.line
                                                                               ? c->start_range
@@ -124,6 +71,67 @@ public:
             d.notes.push_back({c->macro + " follows the fixed-cycle rules for the cycle axis, also under G91 (" +
                                    cite({"tap-cycle/cautions-1", "tap-cycle/cautions-2"}) + ")",
                                std::nullopt});
+    }
+
+    // The finding's text under G91, or "" when there is none (or it was made already).
+    std::string incremental_problem(const ActiveCycle& cycle, const std::string& axis_name, bool g17) {
+        const ActiveCycle* c = &cycle;
+        if (!c->r.known || !c->z.known) return {};
+        const double r = c->r.value, z = c->z.value;
+        const bool down = r <= 0 && z < 0, up = r >= 0 && z > 0;
+        if (down || (!g17 && up)) {
+            last_.reset();
+            return {};
+        }
+        if (!dedupe(c, Val<double>{}, r, z, true)) return {};
+        return fmt::format(
+            "under G91 R is measured from the initial point and Z from the R point ({}), so R "
+            "must be 0 or negative and Z negative{}; here R{} and {}{}{}",
+            cite("fixed-cycles/g91"),
+            g17 ? "" : " (or both positive for a cycle axis pointing the other way)", num(r), axis_name,
+            num(z),
+            r > 0 && z < 0 ? ": R above the initial point raises an alarm (" + cite("fixed-cycles/alarms") + ")"
+            : z == 0       ? ": Z0 leaves no depth to machine"
+                           : ": the hole bottom is not below the R point");
+    }
+
+    // The finding's text under G90, or "" when there is none (or it was made already).
+    std::string absolute_problem(const BlockView& v, const ActiveCycle& cycle, const std::string& axis_name, bool g17) {
+        const ActiveCycle* c = &cycle;
+        const Block& b = v.block;
+        const Val<double> i_point = v.before.axis(axis_name[0]);
+        if (!c->r.known) return {};
+        const double r = c->r.value;
+        const bool have_z = c->z.known;
+        const double z = have_z ? c->z.value : 0;
+        auto ordered = [&](double hi, double lo, bool strict) { return strict ? hi > lo : hi >= lo; };
+        auto check = [&](bool downwards) {
+            // downwards: I >= R > Z; upwards (G18/G19 only): I <= R < Z
+            bool ok = true;
+            if (i_point.known)
+                ok = ok && (downwards ? ordered(i_point.value, r, false) : ordered(r, i_point.value, false));
+            if (have_z) ok = ok && (downwards ? ordered(r, z, true) : ordered(z, r, true));
+            return ok;
+        };
+        if (check(true) || (!g17 && check(false))) {
+            last_.reset();
+            return {};
+        }
+        if (!dedupe(c, i_point, r, z, have_z)) return {};
+        const bool g99 = v.after.cycle_return.is(CycleReturn::R) && c->start_line != b.line;
+        std::string i_text = i_point.known
+                                 ? fmt::format("initial point {}{}", axis_name, num(i_point.value)) +
+                                       (g99 ? " (under G99 the previous block's " + axis_name + " is the initial point)"
+                                            : std::string())
+                                 : std::string("initial point unknown");
+        if (i_point.known && r > i_point.value && (!have_z || r > z))
+            return fmt::format("R{} is above the {}: the control stops with an alarm ({}); "
+                               "start the cycle from above R, or lower R",
+                               num(r), i_text, cite("fixed-cycles/alarms"));
+        return fmt::format("the hole bottom {}{} is not below R{} ({}): the points must be in the "
+                           "order I > R > Z ({}), otherwise the cycle machines nothing "
+                           "or feeds the wrong way; Z is the final depth",
+                           axis_name, num(z), num(r), i_text, cite({"fixed-cycles/basic", "fixed-cycles/alarms"}));
     }
 
     bool same_as(const CyclePointOrder& o) const { return last_k_ == o.last_k_ && last_ == o.last_; }
