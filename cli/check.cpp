@@ -541,6 +541,16 @@ public:
         }
     }
     DiagnosticSink& head() { return *head_; }
+    // Ends the report: the rule statistics, or the writers' summary (with
+    // --quiet, the text formats leave it out; JSON and SARIF end their
+    // document).
+    void finish(const CheckOptions& o, Format format, std::ostream& report) {
+        if (o.statistics) statistics.write(report);
+        const bool summary_only = format == Format::Text || format == Format::Github;
+        if (!(o.quiet && summary_only) && !o.diff) writer->finish(counts);
+        if (log && !o.quiet) log->finish(counts);
+        report.flush();
+    }
     // Folding is the engine's, which then need not build the findings it
     // only counts; after the baseline when there is one (it must see every
     // finding).
@@ -617,6 +627,26 @@ void write_recorded_baseline(const CheckOptions& o, Baseline& recorded, bool io_
                   << (recorded.entries.size() == 1 ? "" : "s") << " in " << o.write_baseline << "\n";
 }
 
+// The files the paths name, less those excluded (--exclude, the
+// configurations' `exclude`; with --force-exclude, standard input too when
+// --stdin-filename is excluded).
+std::vector<std::string> files_to_check(const CheckOptions& o, Configurations& configurations,
+                                        std::vector<std::string>& errors) {
+    auto excluded = [&](const fs::path& p) { return configurations.excluded(p); };
+    std::vector<std::string> files = expand_paths(o.paths, errors, excluded, o.force_exclude);
+    if (o.force_exclude && !o.stdin_filename.empty() && excluded(fs::path(o.stdin_filename)))
+        files.erase(std::remove(files.begin(), files.end(), std::string("-")), files.end());
+    return files;
+}
+
+// Whether the report written to `fd` is in colour (--color, NO_COLOR; never
+// in a file named by --output).
+bool use_color(const CheckOptions& o, int fd) {
+    if (!o.output_file.empty() || std::getenv("NO_COLOR")) return false;
+    if (o.color == "always") return true;
+    return o.color == "auto" && isatty(fd);
+}
+
 }  // namespace
 
 int run_check(const CheckOptions& given) {
@@ -638,11 +668,7 @@ int run_check(const CheckOptions& given) {
     std::vector<std::string> errors;
     const std::string stdin_name = o.stdin_filename.empty() ? std::string("<stdin>") : o.stdin_filename;
 
-    auto excluded = [&](const fs::path& p) { return configurations.excluded(p); };
-    std::vector<std::string> files = expand_paths(o.paths, errors, excluded, o.force_exclude);
-    // --force-exclude: standard input is left out too when --stdin-filename matches.
-    if (o.force_exclude && !o.stdin_filename.empty() && excluded(fs::path(o.stdin_filename)))
-        files.erase(std::remove(files.begin(), files.end(), std::string("-")), files.end());
+    const std::vector<std::string> files = files_to_check(o, configurations, errors);
     std::vector<std::shared_ptr<Config>> configs;
     configs.reserve(files.size());
     for (const auto& f : files) configs.push_back(configurations.for_file(f));
@@ -659,16 +685,10 @@ int run_check(const CheckOptions& given) {
     SubprogramSummaries summaries(builtin_rules(), known.directories);
     options.summaries = &summaries;
 
-    auto use_color = [&](int fd) {
-        if (std::getenv("NO_COLOR")) return false;
-        if (o.color == "always") return true;
-        return o.color == "auto" && isatty(fd);
-    };
     const Format format = *parse_format(o.format);
     WriterOptions wo;
-    wo.color = use_color(format == Format::Github || program_on_stdout ? STDERR_FILENO : STDOUT_FILENO);
+    wo.color = use_color(o, format == Format::Github || program_on_stdout ? STDERR_FILENO : STDOUT_FILENO);
     wo.sarif_root = fs::current_path();
-    if (!o.output_file.empty()) wo.color = false;
     SideViews side_views;  // HTML: the cycle-axis pictures of each file, from its walk
     if (format == Format::Html) {
         wo.side_views = &side_views;
@@ -713,13 +733,7 @@ int run_check(const CheckOptions& given) {
                     format == Format::Html ? &side_views : nullptr);
     if (stdin_fd >= 0) ::close(stdin_fd);
     const uint64_t fixes = report_fixes(o, files, stdin_name, outcomes, report, errors);
-    if (o.statistics) chain.statistics.write(report);
-    // --quiet: the text formats' summary line is left out; JSON and SARIF
-    // end their document.
-    const bool summary_only = format == Format::Text || format == Format::Github;
-    if (!(o.quiet && summary_only) && !o.diff) chain.writer->finish(chain.counts);
-    if (chain.log && !o.quiet) chain.log->finish(chain.counts);
-    report.flush();
+    chain.finish(o, format, report);
     if (!o.output_file.empty() && !output_file) errors.push_back("the report could not be written to " + o.output_file);
     if (!pool_error.empty() && !o.quiet) std::cerr << "osplint: note: " << pool_error << "; fewer files were checked at once\n";
     for (const auto& e : ordered.errors()) errors.push_back("output lost: " + e);
