@@ -578,6 +578,52 @@ CallLine find_call(const std::string& code) {
     return r;
 }
 
+// The macros the catalog has in `form` (CALL or MODIN), then the
+// subprograms known by name.
+void macro_name_items(const Config& config, const ProgramNames& programs, MacroForm form, json& items) {
+    std::set<std::string> seen;
+    for (const auto& spec : config.catalog.macros()) {
+        if (!spec.forms.empty() && !spec.has_form(form)) continue;
+        seen.insert(spec.name);
+        items.push_back({{"label", spec.name},
+                         {"kind", 3},  // Function
+                         {"detail", spec.title},
+                         {"documentation", markdown(config.catalog.render_card(spec, true))},
+                         {"insertText", spec.name},
+                         {"sortText", "0" + spec.name}});
+    }
+    for (const auto& name : programs) {
+        if (seen.count(name) || name.empty()) continue;
+        items.push_back({{"label", name},
+                         {"kind", 9},  // Module
+                         {"detail", "subprogram"},
+                         {"insertText", name},
+                         {"sortText", "1" + name}});
+    }
+}
+
+// The argument names written with `=` after the macro name (upper case),
+// but the one being typed at `column`.
+std::set<std::string> given_arguments(const std::string& code, std::size_t name_end, uint32_t column) {
+    std::size_t tok = column;
+    while (tok > 0 && is_alnum(code[tok - 1])) --tok;
+    std::set<std::string> given;
+    const std::string up = upper(code);
+    for (std::size_t i = name_end; i < up.size();) {
+        if (!std::isalpha(static_cast<unsigned char>(up[i])) || (i > 0 && is_alnum(up[i - 1]))) {
+            ++i;
+            continue;
+        }
+        std::size_t j = i;
+        while (j < up.size() && is_alnum(up[j])) ++j;
+        std::size_t k = j;
+        while (k < up.size() && (up[k] == ' ' || up[k] == '\t')) ++k;
+        if (k < up.size() && up[k] == '=' && i != tok) given.insert(up.substr(i, j - i));
+        i = j;
+    }
+    return given;
+}
+
 }  // namespace
 
 json completion(std::string_view line, uint32_t column, const Config& config, const ProgramNames& programs) {
@@ -605,26 +651,7 @@ json completion(std::string_view line, uint32_t column, const Config& config, co
     const MacroForm form = cl.modin ? MacroForm::Modin : MacroForm::Call;
 
     if (column <= cl.name_end) {
-        // Completing the macro name.
-        std::set<std::string> seen;
-        for (const auto& spec : config.catalog.macros()) {
-            if (!spec.forms.empty() && !spec.has_form(form)) continue;
-            seen.insert(spec.name);
-            items.push_back({{"label", spec.name},
-                             {"kind", 3},  // Function
-                             {"detail", spec.title},
-                             {"documentation", markdown(config.catalog.render_card(spec, true))},
-                             {"insertText", spec.name},
-                             {"sortText", "0" + spec.name}});
-        }
-        for (const auto& name : programs) {
-            if (seen.count(name) || name.empty()) continue;
-            items.push_back({{"label", name},
-                             {"kind", 9},  // Module
-                             {"detail", "subprogram"},
-                             {"insertText", name},
-                             {"sortText", "1" + name}});
-        }
+        macro_name_items(config, programs, form, items);
         return result();
     }
 
@@ -632,23 +659,7 @@ json completion(std::string_view line, uint32_t column, const Config& config, co
     const std::string name = upper(std::string_view(code).substr(cl.name_begin, cl.name_end - cl.name_begin));
     const MacroSpec* spec = config.catalog.find(name);
     if (!spec) return result();
-    // The token under the cursor is being typed: it does not count as given.
-    std::size_t tok = column;
-    while (tok > 0 && is_alnum(code[tok - 1])) --tok;
-    std::set<std::string> given;
-    const std::string up = upper(code);
-    for (std::size_t i = cl.name_end; i < up.size();) {
-        if (!std::isalpha(static_cast<unsigned char>(up[i])) || (i > 0 && is_alnum(up[i - 1]))) {
-            ++i;
-            continue;
-        }
-        std::size_t j = i;
-        while (j < up.size() && is_alnum(up[j])) ++j;
-        std::size_t k = j;
-        while (k < up.size() && (up[k] == ' ' || up[k] == '\t')) ++k;
-        if (k < up.size() && up[k] == '=' && i != tok) given.insert(up.substr(i, j - i));
-        i = j;
-    }
+    const std::set<std::string> given = given_arguments(code, cl.name_end, column);
     auto is_given = [&](const ArgSpec& a) {
         if (given.count(upper(a.name))) return true;
         for (const auto& al : a.aliases)
