@@ -57,8 +57,8 @@ public:
         const bool incremental = v.after.distance.value == Distance::Incremental;
         const std::string name = fmt::format("G{}", c->code);
 
-        const std::string problem = incremental ? incremental_problem(*c, axis_name, g17)
-                                                : absolute_problem(v, *c, axis_name, g17);
+        const std::string problem =
+            incremental ? incremental_problem(c, axis_name, g17) : absolute_problem(v, c, axis, g17);
         if (problem.empty()) return;
         ByteRange where = r_word ? r_word->range : z_word ? z_word->range : !c->start_range.empty() &&
                                                                                   c->start_line == b.line
@@ -74,8 +74,7 @@ public:
     }
 
     // The finding's text under G91, or "" when there is none (or it was made already).
-    std::string incremental_problem(const ActiveCycle& cycle, const std::string& axis_name, bool g17) {
-        const ActiveCycle* c = &cycle;
+    std::string incremental_problem(const ActiveCycle* c, const std::string& axis_name, bool g17) {
         if (!c->r.known || !c->z.known) return {};
         const double r = c->r.value, z = c->z.value;
         const bool down = r <= 0 && z < 0, up = r >= 0 && z > 0;
@@ -96,10 +95,10 @@ public:
     }
 
     // The finding's text under G90, or "" when there is none (or it was made already).
-    std::string absolute_problem(const BlockView& v, const ActiveCycle& cycle, const std::string& axis_name, bool g17) {
-        const ActiveCycle* c = &cycle;
+    std::string absolute_problem(const BlockView& v, const ActiveCycle* c, char axis, bool g17) {
         const Block& b = v.block;
-        const Val<double> i_point = v.before.axis(axis_name[0]);
+        const std::string axis_name(1, axis);
+        const Val<double> i_point = v.before.axis(axis);
         if (!c->r.known) return {};
         const double r = c->r.value;
         const bool have_z = c->z.known;
