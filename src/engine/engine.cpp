@@ -264,11 +264,10 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     converged(start, 0, false);
     visit(head, head_line, Mode::Iterate);
     if (first_sweep(1, extent, hold)) held.drop();  // it ended early (after an edit): not every block was read
-    const bool holding = held.holding;
     const uint64_t end = main_.next_offset();
     const uint32_t end_line = main_.next_line();
     ++stats_.loop_sweeps;
-    if (holding) ++stats_.held_loops;
+    if (held.holding) ++stats_.held_loops;
     // What falls out of the loop's last block, merged over every sweep: each
     // sweep is a way through the loop, and a block's transfer need not give a
     // wider state for a wider one (a cycle commanded again continues the old
@@ -280,7 +279,7 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     leave_sweep();
 
     // A loop read again from the input: the rules walk it at once, if that turns out right.
-    const bool speculate = !holding && loop_changed_ && !options_.observer && !stop_;
+    const bool speculate = !held.holding && loop_changed_ && !options_.observer && !stop_;
     if (speculate && !loop_marks_.empty()) {
         after_first_ = std::make_shared<const SweepState>(sweep_state(extent, 0));
         bringing_ = true;
@@ -299,7 +298,7 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     while (!stop_ && loop_changed_) {
         loop_changed_ = false;
         set_state(entry);
-        const bool whole = holding ? sweep_held(held.lines, held.text, Mode::Iterate)
+        const bool whole = held.holding ? sweep_held(held.lines, held.text, Mode::Iterate)
                                    : sweep_file(start, start_line, end, Mode::Iterate);
         ++stats_.loop_sweeps;
         // A sweep that converged early would end as the one before it did.
@@ -308,12 +307,12 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     // Once more, with the rules.
     if (!stop_) {
         set_state(entry);
-        if (holding) sweep_held(held.lines, held.text, Mode::Rules);
+        if (held.holding) sweep_held(held.lines, held.text, Mode::Rules);
         else sweep_file(start, start_line, end, Mode::Rules);
         leave_sweep();
         set_state(out);
     }
-    if (holding && !stop_) main_.seek(end, end_line);
+    if (held.holding && !stop_) main_.seek(end, end_line);
     end_loop();
 }
 
