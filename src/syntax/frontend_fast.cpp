@@ -480,7 +480,7 @@ void FastLineParser::Impl::set_label(std::optional<Label>& out, uint32_t p, uint
 
 // ------------------------------------------------------------------ line
 
-bool FastLineParser::Impl::run(const LineRef& line, Block& out) {
+bool FastLineParser::Impl::run(const LineRef& line, Block& out, bool moves) {
     s = line.text.data();
     n = static_cast<uint32_t>(line.text.size());
     base = line.start;
@@ -504,13 +504,19 @@ bool FastLineParser::Impl::run(const LineRef& line, Block& out) {
     out.comments.clear();
     out.errors.clear();
     plain = false;
-    bool ok = simple_line();
+    partial = false;
+    bool ok = false;
+    if (moves) {
+        moves_only = true;
+        ok = simple_line();
+        moves_only = false;
+        partial = ok && plain;
+        if (!ok) restart();
+    }
+    if (!ok) ok = simple_line();
     if (!ok) {
         // Start again with the general parser.
-        out.sequence.reset();
-        exprs_used = 0;
-        words_used = 0;
-        plain = false;
+        restart();
         ok = parse_line();
     }
     word_pool.finish(out.words, words_used);
@@ -518,12 +524,21 @@ bool FastLineParser::Impl::run(const LineRef& line, Block& out) {
     return ok;
 }
 
+void FastLineParser::Impl::restart() {
+    b->sequence.reset();
+    exprs_used = 0;
+    words_used = 0;
+    plain = false;
+}
+
 // The shape CAM post-processors write by the million: an optional
 // sequence number, then glued words with literal values, separated by
 // blanks or not at all (`N120 G1 Y-40. F2500`). The same Block as
 // parse_line (prefix: sequence; items: glued_word), built in one pass;
 // false on anything else, and parse_line starts again. Sets `plain` when
-// the words are all X/Y/Z/F or G0..G3 (is_plain_move_block).
+// the words are all X/Y/Z/F or G0..G3 (is_plain_move_block). With
+// `moves_only`, false as soon as a word is not one of those, and each word
+// gets only its address, range and number.
 bool FastLineParser::Impl::simple_line() {
     return sentinel ? simple_line_in<true>() : simple_line_in<false>();
 }
@@ -560,10 +575,18 @@ bool FastLineParser::Impl::simple_line_in() {
         if (t < e && !(kClass[static_cast<unsigned char>(*t)] & (kBlankClass | kLetterClass))) return false;
         const uint32_t p = static_cast<uint32_t>(q - s);
         const uint32_t j = static_cast<uint32_t>(t - s);
+        if (c == 'G') all_plain = all_plain && (v == 0 || v == 1 || v == 2 || v == 3) && sign != '-';
+        else if (c != 'X' && c != 'Y' && c != 'Z' && c != 'F') all_plain = false;
         Word& w = new_word();
         set_char(w.address, c);
-        w.address_range = abs(p, p + 1);
         w.range = abs(p, j);
+        if (moves_only) {
+            if (!all_plain) return false;
+            w.number = sign == '-' ? -v : v;
+            q = t;
+            continue;
+        }
+        w.address_range = abs(p, p + 1);
         w.value_range = abs(p + 1, j);
         set_text(w.value_text, q + 1, j - p - 1);
         ExprNode& num = new_expr(ExprKind::Number, abs(static_cast<uint32_t>(digits - s), j));
@@ -578,8 +601,6 @@ bool FastLineParser::Impl::simple_line_in() {
             w.value = num_id;
             w.number = v;
         }
-        if (c == 'G') all_plain = all_plain && (v == 0 || v == 1 || v == 2 || v == 3) && sign != '-';
-        else if (c != 'X' && c != 'Y' && c != 'Z' && c != 'F') all_plain = false;
         q = t;
     }
     plain = all_plain && words_used > 0;
@@ -655,6 +676,20 @@ bool FastLineParser::parse_fast_only(const LineRef& line, Block& out) {
     last_plain_ = ok && impl_->plain;
     return ok;
 }
+
+bool FastLineParser::parse_moves(const LineRef& line, Block& out) {
+    if (!impl_->run(line, out, true)) {
+        last_plain_ = false;
+        ++fallback_lines_;
+        parse_line_tree_sitter(line, out);
+        return false;
+    }
+    last_plain_ = impl_->plain;
+    ++fast_lines_;
+    return true;
+}
+
+bool FastLineParser::last_partial() const { return impl_->partial; }
 
 bool FastLineParser::parse_outline(const LineRef& line, Block& out) {
     impl_->outline = true;

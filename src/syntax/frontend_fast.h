@@ -53,6 +53,14 @@ public:
     // (syntax/outline.h) is the same as from parse.
     bool parse_outline(const LineRef& line, Block& out);
 
+    // As parse, but a plain move of the simplest shape (last_plain) is filled
+    // in part: its sequence name and, of each word, the address, the range and
+    // the number (what is_plain_move_block and apply_plain_move read; the
+    // other fields of its words are left as they were). last_partial() says
+    // so: parse the line again for the whole block. Any other line is whole.
+    bool parse_moves(const LineRef& line, Block& out);
+    bool last_partial() const;
+
     // Whether the last line parsed is a plain move (analyzer.h:
     // is_plain_move_block) of the simplest shape: glued literal words only. A
     // false answer proves nothing: ask is_plain_move_block then.

@@ -26,6 +26,8 @@ struct FastLineParser::Impl {
     bool plain = false;  // the last line is a plain move (simple_line)
     bool sentinel = false;  // the terminator follows the text in memory (simple_line_in)
     bool outline = false;   // parse_outline: plain CALL arguments are skipped
+    bool moves_only = false;  // parse_moves: simple_line keeps a plain move in part, fails on anything else
+    bool partial = false;     // the last line was kept in part (parse_moves)
     // Deeper lines are left to the tree-sitter front end (bounded recursion here).
     static constexpr int kMaxDepth = 64;
 
@@ -182,7 +184,8 @@ struct FastLineParser::Impl {
 
     // --- Whole lines ---------------------------------------------------------------
 
-    bool run(const LineRef& line, Block& out);
+    bool run(const LineRef& line, Block& out, bool moves = false);
+    void restart();
     bool simple_line();
     template <bool kSentinel>
     bool simple_line_in();

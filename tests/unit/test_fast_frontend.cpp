@@ -8,11 +8,14 @@
 // lines.
 #include <doctest/doctest.h>
 
+#include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "api/check.h"
 #include "programs.h"
+#include "semantics/transfer.h"
 #include "syntax/frontend.h"
 #include "syntax/frontend_fast.h"
 
@@ -279,4 +282,97 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
     CHECK(outline_words("CALL O100 PX=1 (NOTE)") > 0);      // a comment (a directive may be in it)
     CHECK(b.comments.size() == 1);
     CHECK(outline_words("CALL O100 PX=1234567890123456") > 0);  // more digits than the outline skips
+}
+
+namespace {
+
+// What the walk reads of a plain move read in part (FastLineParser::parse_moves):
+// the block's shape and sequence name, each word's address, range and number.
+std::string moves_view(const Block& b) {
+    std::string v = std::to_string(static_cast<int>(b.kind)) + " line " + std::to_string(b.line) + " @" +
+                    std::to_string(b.range.begin) + "-" + std::to_string(b.range.end) +
+                    (b.is_empty() ? " empty" : "") + (b.errors.empty() ? "" : " errors") +
+                    (b.block_delete ? " /" : "") + (is_plain_move_block(b) ? " plain" : "");
+    if (b.sequence)
+        v += " " + b.sequence->name + "@" + std::to_string(b.sequence->range.begin) + "-" +
+             std::to_string(b.sequence->range.end);
+    for (const auto& w : b.words) {
+        std::ostringstream n;
+        if (w.number) n << *w.number;
+        v += " " + w.address + (w.equals ? "=" : "") + n.str() + "@" + std::to_string(w.range.begin) + "-" +
+             std::to_string(w.range.end);
+    }
+    return v;
+}
+
+// Reads `text` line by line with parse_moves and compares with parse: a line
+// kept in part must be a plain move and read the same, any other line must be
+// the whole block. One parser takes both kinds of lines in turn, so nothing
+// left from a line parsed whole may show in one read in part.
+std::string compare_moves(const std::string& name, const std::string& text, size_t* partial = nullptr) {
+    FastLineParser full, moves;
+    Block a, b;
+    std::string report;
+    for_each_line(text, [&](const LineRef& line) {
+        full.parse(line, a);
+        const bool fast = moves.parse_moves(line, b);
+        std::string why;
+        if (moves.last_partial()) {
+            if (partial) ++*partial;
+            if (!fast || !moves.last_plain() || !is_plain_move_block(a)) why = "kept in part, not a plain move";
+            else if (moves_view(a) != moves_view(b)) why = "differs";
+        } else if (!(a == b)) {
+            why = "not the whole block";
+        }
+        if (!why.empty() && report.size() < 4000)
+            report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) + "': " + why +
+                      "\n  parse: " + moves_view(a) + "\n  moves: " + moves_view(b) + "\n";
+    });
+    return report;
+}
+
+}  // namespace
+
+TEST_CASE("fast front end: parse_moves keeps what the walk reads of a plain move, and every other line whole") {
+    size_t partial = 0;
+    for (const auto& f : corpus_files()) {
+        const std::string report = compare_moves(f.string(), read_all(f), &partial);
+        CHECK_MESSAGE(report.empty(), report);
+    }
+    for (uint32_t seed = 1; seed <= 100; ++seed) {
+        const std::string report = compare_moves("gen" + std::to_string(seed), Generator(seed, true).program(), &partial);
+        CHECK_MESSAGE(report.empty(), report);
+    }
+    const auto files = corpus_files();
+    std::mt19937 rng(20261128);
+    for (int i = 0; i < 300; ++i) {
+        const std::string report = compare_moves("mut" + std::to_string(i), mutate(read_all(files[rng() % files.size()]), rng));
+        CHECK_MESSAGE(report.empty(), "round " << i << "\n" << report);
+    }
+    CHECK(partial > 500);  // the inputs hold plain moves enough (836 today)
+
+    FastLineParser p;
+    Block b;
+    auto read = [&](const std::string& text) { return p.parse_moves(LineRef{text, "\n", 7, 100}, b) && p.last_partial(); };
+    CHECK(read("N12 G1 X-1.5 Y+2. F300"));
+    CHECK(b.sequence->name == "N12");
+    REQUIRE(b.words.size() == 4);
+    CHECK(b.words[1].address == "X");
+    CHECK(*b.words[1].number == -1.5);
+    CHECK(b.words[1].range.begin == 107);
+    CHECK(b.words[1].range.end == 112);
+    CHECK(b.exprs.empty());
+    for (const char* whole : {"G81 X1 Z-2 R1 F9", "G1 X1 M3", "X=VC1", "G1 X[1+2]", "N5", "G-1 X1", "/X1", "X1 (C)"}) {
+        CHECK_MESSAGE(!read(whole), whole);
+        FastLineParser again;
+        Block w;
+        again.parse(LineRef{whole, "\n", 7, 100}, w);
+        CHECK_MESSAGE(w == b, whole);
+    }
+    // Parsed whole again, the same line gives every field.
+    CHECK(p.parse(LineRef{std::string_view("X1.5"), "\n", 7, 100}, b));
+    CHECK_FALSE(p.last_partial());
+    REQUIRE(b.words.size() == 1);
+    CHECK(b.words[0].value_text == "1.5");
+    CHECK(b.words[0].value != kNoExpr);
 }
