@@ -426,7 +426,7 @@ bool Walk::resume_loop() {
     loop_checkpoints_.clear();
     restore_sweep(*l.first);
     uint32_t extent = l.first->extent;
-    first_sweep(l.first->index, extent, [](const Block&, const LineRef&) {});
+    first_sweep(l.first->index, extent, nullptr);
     const uint64_t end = main_.next_offset();
     ++stats_.loop_sweeps;
     if (stop_) return true;  // cancelled, or the input failed: the walk ends anyway

@@ -130,7 +130,7 @@ void Walk::fail(std::string message) {
     stop_ = true;
 }
 
-bool Walk::read(Block& b, LineRef& line) {
+bool Walk::read(Block& b, LineRef& line, bool moves) {
     if (!main_.next(line)) {
         if (main_.error()) fail(main_.stop_reason().empty() ? src_.error() : main_.stop_reason());
         else fail(kChangedMessage);
@@ -142,7 +142,8 @@ bool Walk::read(Block& b, LineRef& line) {
     }
     positions_.note_line(line);
     ++stats_.blocks_parsed;
-    if (!parser_.parse(line, b)) ++stats_.fallback_lines;
+    if (!(moves ? parser_.parse_moves(line, b) : parser_.parse(line, b))) ++stats_.fallback_lines;
+    partial_ = moves && parser_.last_partial() ? &b : nullptr;
     if (options_.cancel && (++walked_ & 1023) == 0 && options_.cancel->load(std::memory_order_relaxed)) {
         fail(std::string(kCancelled));
         return false;
@@ -255,15 +256,14 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     // as the sweep finds more).
     HeldLoop held;
     held.holding = options_.held_loop_blocks > 0 && extent - start <= options_.held_loop_blocks * kHeldBytesPerBlock;
-    auto hold = [&](const Block& b, const LineRef& l) { held.hold(b, l, options_.held_loop_blocks); };
     loop_changed_ = false;
     probes_.clear();
     join_stamps_.clear();
     set_state(entry);
-    hold(head, head_line);
+    held.hold(head, head_line, options_.held_loop_blocks);
     converged(start, 0, false);
     visit(head, head_line, Mode::Iterate);
-    if (first_sweep(1, extent, hold)) held.drop();  // it ended early (after an edit): not every block was read
+    if (first_sweep(1, extent, &held)) held.drop();  // it ended early (after an edit): not every block was read
     const uint64_t end = main_.next_offset();
     const uint32_t end_line = main_.next_line();
     ++stats_.loop_sweeps;
@@ -314,6 +314,28 @@ void Walk::walk_loop(const Block& head, const LineRef& head_line) {
     }
     if (held.holding && !stop_) main_.seek(end, end_line);
     end_loop();
+}
+
+// The first sweep over a loop from its `index`-th block on (the loop's head
+// was visited), to the last block it reaches back from (`extent` grows as
+// the sweep finds more); `held`, when given, holds each block it can.
+bool Walk::first_sweep(uint32_t index, uint32_t& extent, HeldLoop* held) {
+    Block b;
+    LineRef line;
+    const bool may_converge = !ahead_.empty();
+    if (may_converge) start_ahead_in_loop();
+    for (; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
+        if (may_converge)
+            if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
+        mark_loop(extent, index);
+        const bool holding = held && held->holding;
+        if (!read(b, line, plain_ok_ && !holding)) break;
+        loop_head(b, line.start, extent);
+        if (holding) held->hold(b, line, options_.held_loop_blocks);
+        converged(line.start, index, false);
+        visit(b, line, Mode::Iterate);
+    }
+    return false;
 }
 
 void Walk::end_loop() {
@@ -370,7 +392,7 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
             if (loop_mark_next_ < loop_marks_.size() && loop_marks_[loop_mark_next_].offset == main_.next_offset())
                 take_loop_checkpoint();
         }
-        if (!read(b, line)) break;
+        if (!read(b, line, plain_ok_ && mode == Mode::Iterate)) break;
         if (mode == Mode::Iterate && converged(line.start, index, true)) return false;
         visit(b, line, mode);
     }
@@ -543,7 +565,8 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         return;
     }
     ++stats_.transfers;
-    const bool plain_line = parser_.last_plain() && &b == &block_buf_;
+    const bool partial = &b == partial_;  // a plain move read in part
+    const bool plain_line = partial || (parser_.last_plain() && &b == &block_buf_);
     if (plain_ok_ && (plain_line || is_plain_move_block(b)) && plain_move_state(*A_)) {
         // A plain move (semantics/transfer.h). A and B differ at most in what a
         // plain move sets when `near_`, so those fields make B equal to A again.
@@ -565,12 +588,17 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         near_ = true;
         return;
     }
-    const std::optional<MacroCall> call = resolve(b, *A_);
+    if (partial) {  // in a fixed cycle or under MODIN, the block is more than a plain move
+        parser_.parse(line, whole_buf_);
+        partial_ = nullptr;
+    }
+    const Block& whole = partial ? whole_buf_ : b;
+    const std::optional<MacroCall> call = resolve(whole, *A_);
     *B_ = *A_;
-    apply_block(b, call ? &*call : nullptr, config_.catalog, *B_);
+    apply_block(whole, call ? &*call : nullptr, config_.catalog, *B_);
     near_ = false;
-    if (rules) check(BlockView{b, *A_, *B_, call ? &*call : nullptr, true}, line, false);
-    leave(b, line);
+    if (rules) check(BlockView{whole, *A_, *B_, call ? &*call : nullptr, true}, line, false);
+    leave(whole, line);
 }
 
 void Walk::check(const BlockView& view, const LineRef& line, bool plain) {

@@ -244,7 +244,9 @@ private:
     enum class Mode { Iterate, Rules };
 
     // --- reading
-    bool read(Block& b, LineRef& line);
+    // With `moves`, a plain move may be read in part (FastLineParser::parse_moves):
+    // enough for a sweep without the rules; visit parses it whole when it needs more.
+    bool read(Block& b, LineRef& line, bool moves = false);
     void fail(std::string message);
 
     // --- the walk
@@ -267,8 +269,7 @@ private:
     void reset_to_start();
     void end_loop();
     // Returns true when it ended early, as the previous analysis's did (sweep_converges).
-    template <class Hold>
-    bool first_sweep(uint32_t index, uint32_t& extent, Hold&& hold);
+    bool first_sweep(uint32_t index, uint32_t& extent, HeldLoop* held);
     bool loop_head(const Block& b, uint32_t offset, uint32_t& extent) const;
     void walk_loop(const Block& head, const LineRef& head_line);
     // A sweep returns false when it stopped early (it converged, or the walk stops).
@@ -475,6 +476,8 @@ private:
     uint64_t pending_kind_ = 0;
     Folder folder_{0};
     Block block_buf_;           // the block read last by the walk
+    const Block* partial_ = nullptr;  // the block read last, when read in part (read with `moves`)
+    Block whole_buf_;                 // that block, parsed whole
     Block comment_block_;       // a line parsed again for its comments
     // The fingerprint text of the last line a finding was on: a line with many
     // findings is read and folded once.
@@ -484,27 +487,5 @@ private:
     std::map<std::string, uint64_t, std::less<>> fingerprint_keys_;  // by rule
     FastLineParser comment_parser_;
 };
-
-// The first sweep over a loop from its `index`-th block on (the loop's head
-// was visited), to the last block it reaches back from (`extent` grows as
-// the sweep finds more); `hold` sees each block.
-template <class Hold>
-bool Walk::first_sweep(uint32_t index, uint32_t& extent, Hold&& hold) {
-    Block b;
-    LineRef line;
-    const bool may_converge = !ahead_.empty();
-    if (may_converge) start_ahead_in_loop();
-    for (; !stop_ && main_.next_offset() <= extent && main_.next_offset() < flow_.end(); ++index) {
-        if (may_converge)
-            if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
-        mark_loop(extent, index);
-        if (!read(b, line)) break;
-        loop_head(b, line.start, extent);
-        hold(b, line);
-        converged(line.start, index, false);
-        visit(b, line, Mode::Iterate);
-    }
-    return false;
-}
 
 }  // namespace osplint

@@ -313,6 +313,21 @@ TEST_CASE("engine: jumps and loops") {
         CHECK(st.speculative_walks == 1);
         compare_checks("a.min", text, config);
     }
+    SUBCASE("a loop read again whose positioning blocks run a cycle or a macro") {
+        // Its sweeps without the rules read plain moves in part; under G81, a
+        // MODIN or G114 such a block is parsed whole for the transfer.
+        std::string text = "O1\nG15 H1\nVC1=0\nN1 G0 G90 X0 Y0\nG56 Z50. H1\n";
+        for (int i = 0; i < 40; ++i) {
+            text += "G81 X10. Y" + std::to_string(i) + ". Z-5. R2. F100\nX20.\nY" + std::to_string(i + 1) + ".\nG80\n";
+            text += "MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500\nX" + std::to_string(i) + ". Y-3.\nX-4.\nMODOUT\n";
+            text += "G98 G114 X5. Y5. R10. Z-21.5 L1.5 P.5 F600 FA=650\nX" + std::to_string(i % 7) + ".\nM204\n";
+            text += "G1 X" + std::to_string(i % 9) + ". Y2. F300\nG91 X1.\nG90\n";
+        }
+        text += "G91 Z-400.\nVC1=VC1+1\nIF [VC1 LT 3] N1\nG90\nM30\n";
+        compare_checks("a.min", text, config, {}, &st);
+        CHECK(st.loops == 1);
+        CHECK(st.held_loops == 1);  // the variants compare_checks runs read it again
+    }
     SUBCASE("unreachable code after a jump, and a loop whose head is unreachable") {
         compare_checks("a.min", "O1\nGOTO N9\nN3 G81 Z-1. R1. F1\nIF [VC1 LT 2] N3\nN9 M30\n", config);
     }
