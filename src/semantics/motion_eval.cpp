@@ -1,6 +1,7 @@
 // The catalog's expressions, evaluated against the arguments of a call (see
 // motion_internal.h): the arithmetic each point of an
 // envelope shows ("PZ-PI-PL = -20-12-5 = -37") and why a value is not known.
+#include <algorithm>
 #include <cctype>
 
 #include "semantics/motion_internal.h"
@@ -45,8 +46,8 @@ Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lo
         std::string piece;
         if (!t.name.empty()) {
             ArgValue av = lookup(t.name);
-            const ArgSpec* as = spec ? spec->arg(t.name) : nullptr;
             if (av.state == ArgValue::State::Absent) {
+                const ArgSpec* as = spec ? spec->arg(t.name) : nullptr;
                 if (as && as->undocumented) {
                     out.skip = true;
                     out.why = t.name + " is not given (the manual uses it here but never defines it)";
@@ -109,8 +110,11 @@ std::string addr_of(const MacroSpec& spec, const std::string& name) {
 }
 
 const MacroArg* given_arg(const MacroCall& c, const ArgSpec* a, const std::string& name) {
-    if (a)
-        if (const MacroArg* m = c.given(*a)) return m;
+    if (!a) return c.arg(name);
+    if (const MacroArg* m = c.given(*a)) return m;
+    // given() has looked for `a` by its name and its aliases already: only
+    // another spelling of it can still be written on the call.
+    if (name == a->name || std::find(a->aliases.begin(), a->aliases.end(), name) != a->aliases.end()) return nullptr;
     return c.arg(name);
 }
 

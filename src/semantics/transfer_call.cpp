@@ -161,19 +161,30 @@ void link_arg_specs(MacroCall& call, ArgLinks* last) {
     last->given_index = call.given_index;
 }
 
+namespace {
+
+// MacroCall::given by comparing the names, for an argument of another spec, a
+// call not linked, or one giving the argument twice. Kept out of given(), so
+// that the linked case, met for every argument of every call, stays small.
+[[gnu::noinline]] const MacroArg* given_by_name(const MacroCall& call, const ArgSpec& a) {
+    if (const MacroArg* m = call.arg(a.name)) return m;
+    for (const auto& alias : a.aliases)
+        if (const MacroArg* m = call.arg(alias)) return m;
+    return nullptr;
+}
+
+}  // namespace
+
 const MacroArg* MacroCall::given(const ArgSpec& a) const {
     if (spec && !given_index.empty() && given_index.size() == spec->args.size() && &a >= spec->args.data() &&
         &a < spec->args.data() + spec->args.size()) {
         // Names and aliases are distinct within a spec, so each argument links
         // to one ArgSpec at most; one given twice (by its name and an alias)
-        // takes the order of the names below.
+        // takes the order of the names.
         const uint16_t slot = given_index[static_cast<size_t>(&a - spec->args.data())];
         if (slot != kGivenTwice) return slot ? &args[slot - 1] : nullptr;
     }
-    if (const MacroArg* m = arg(a.name)) return m;
-    for (const auto& alias : a.aliases)
-        if (const MacroArg* m = arg(alias)) return m;
-    return nullptr;
+    return given_by_name(*this, a);
 }
 
 std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog,
