@@ -61,7 +61,7 @@ MacroCall statement_call(const Block& b, const Statement& st, const Catalog& cat
         } else if (w.address == "Q" && !call.repeat) {
             call.repeat = &w;
         } else if (w.range.begin > st.keyword_range.begin) {
-            call.args.push_back(MacroArg{w.address, &w, {}});
+            call.args.emplace_back(w.address, &w);  // built in place: no temporary to move
         }
     }
     return call;
@@ -124,10 +124,22 @@ std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState
 
 }  // namespace
 
+namespace {
+
+// The names are short ("PR"): compared in line, not through memcmp.
+bool same_name(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (a[i] != b[i]) return false;
+    return true;
+}
+
+}  // namespace
+
 void link_arg_specs(MacroCall& call, ArgLinks* last) {
     if (last && call.spec && last->spec == call.spec && last->names.size() == call.args.size() &&
         std::equal(call.args.begin(), call.args.end(), last->names.begin(),
-                   [](const MacroArg& a, const std::string& n) { return a.name == n; })) {
+                   [](const MacroArg& a, const std::string& n) { return same_name(a.name, n); })) {
         for (size_t k = 0; k < call.args.size(); ++k) call.args[k].spec = last->specs[k];
         call.given_index = last->given_index;
         return;
