@@ -640,9 +640,13 @@ void apply_statements(const BlockFacts& f, const Catalog& catalog, ModalState& s
                 s.modin = Val<std::optional<ActiveModin>>::of(std::nullopt);
                 s.modin_from.clear();
                 break;
-            case StmtKind::Call:
-                run_program(call && call->kind == CallKind::Call ? call : nullptr, catalog.find(st.name), f.before, s);
+            case StmtKind::Call: {
+                const MacroCall* own = call && call->kind == CallKind::Call && call->name == st.name ? call : nullptr;
+                // resolve_call found the macro of this CALL already: no second search by name.
+                run_program(call && call->kind == CallKind::Call ? call : nullptr,
+                            own ? own->spec : catalog.find(st.name), f.before, s);
                 break;
+            }
             default: break;
         }
     }
