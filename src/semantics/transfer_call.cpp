@@ -30,6 +30,14 @@ std::string_view call_kind_name(CallKind k) {
 
 namespace {
 
+// The names are short ("PR"): compared in line, not through memcmp.
+bool same_name(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (a[i] != b[i]) return false;
+    return true;
+}
+
 std::vector<int> codes(const Block& b, char address) {
     std::vector<int> out;
     for (const auto& w : b.words)
@@ -112,26 +120,14 @@ std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState
     call.spec = catalog.find(m.macro);
     call.modin_line = m.line;
     call.args.reserve(m.given.size());
-    for (const auto& name : m.given) {
-        MacroArg a{name, nullptr, {}};
-        if (auto it = m.values.find(name); it != m.values.end()) a.value = Val<double>::of(it->second);
-        call.args.push_back(std::move(a));
-    }
+    for (const auto& name : m.given) call.args.emplace_back(name, nullptr);
+    // The known values: one walk of the (small) map, not a search by name per argument.
+    for (const auto& [name, value] : m.values)
+        for (auto& a : call.args)
+            if (same_name(a.name, name)) a.value = Val<double>::of(value);
     for (const auto& w : b.words)
         if (w.address == "M") call.m_codes.push_back(&w);
     return call;
-}
-
-}  // namespace
-
-namespace {
-
-// The names are short ("PR"): compared in line, not through memcmp.
-bool same_name(std::string_view a, std::string_view b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i)
-        if (a[i] != b[i]) return false;
-    return true;
 }
 
 }  // namespace
