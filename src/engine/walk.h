@@ -1,5 +1,6 @@
 // The walk of the analysis engine (engine.h), shared by its parts:
-// engine.cpp walks programs, loops and blocks and hands the findings on;
+// engine.cpp walks programs, loops and blocks; findings.cpp makes the
+// findings, folds and suppresses them and hands them on;
 // checkpoints.cpp takes the walk's checkpoints, moves them to an edited text
 // (with moves.h) and resumes the walk at one (also inside a loop);
 // converge.cpp ends the walk early after an edit inside one line, where its
