@@ -1,4 +1,5 @@
-// Language server, layers 3-4: the LSP session and its analysis worker.
+// Language server, layers 3-4: the LSP session (server.cpp) and its analysis
+// workers (worker.cpp).
 //
 //   transport (lsp/transport.h) -> JSON-RPC (lsp/jsonrpc.h) -> this file:
 //   lifecycle, documents, scheduling -> features (lsp/features.h) -> the
