@@ -22,6 +22,9 @@ namespace osplint::lsp {
 inline constexpr std::string_view kSource = "osplint";
 inline constexpr std::string_view kRuleDocBase = "https://github.com/osplint/osplint/blob/main/docs/rules/";
 
+// An LSP MarkupContent of Markdown text.
+json markdown(std::string text);
+
 // --- diagnostics ---------------------------------------------------------
 // One LSP Diagnostic: range, severity, code, codeDescription, source,
 // message, relatedInformation (notes with a range), data {version, fixes}.
@@ -47,7 +50,7 @@ std::optional<std::string_view> code_meaning(std::string_view code);
 // The Markdown documentation of one macro argument; `plane` 17/18/19 or 0 (unknown).
 std::string argument_doc(const MacroSpec& spec, const ArgSpec& arg, int plane, const ModalState* state);
 
-// --- completion ----------------------------------------------------------
+// --- completion (completion.cpp) ----------------------------------------
 // `line` is the whole line, `column` the cursor as a byte offset in it;
 // `programs` are subprogram names defined in the file and beside it.
 json completion(std::string_view line, uint32_t column, const Config& config, const ProgramNames& programs);
@@ -56,10 +59,5 @@ json completion(std::string_view line, uint32_t column, const Config& config, co
 // Quick fixes from the fixes carried in the diagnostics' data, and a
 // suppression comment per rule. `text` and `version` are the document now.
 json code_actions(const std::string& uri, const json& params, const SourceText& text, int64_t version, Encoding enc);
-
-// --- document symbols ----------------------------------------------------
-// Programs, with their sequence names (at most kMaxSequenceSymbols per program).
-inline constexpr size_t kMaxSequenceSymbols = 5000;
-json document_symbols(const DocumentModel& doc, Encoding enc);
 
 }  // namespace osplint::lsp

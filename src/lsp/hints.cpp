@@ -59,8 +59,6 @@ private:
     Encoding enc_;
 };
 
-bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
-
 }  // namespace
 
 std::string envelope_label(const Envelope& env) {

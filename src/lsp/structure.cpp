@@ -232,4 +232,40 @@ json workspace_symbols(const std::vector<SymbolSource>& sources, std::string_vie
     return out;
 }
 
+// --- document symbols ----------------------------------------------------
+
+json document_symbols(const DocumentModel& doc, Encoding enc) {
+    json out = json::array();
+    const SourceText& src = doc.source();
+    const auto& programs = doc.outline.programs;
+    for (size_t pi = 0; pi < programs.size(); ++pi) {
+        const ProgramOutline& p = programs[pi];
+        const auto [first_line, last_line] = program_lines(doc, pi);
+        if (first_line > last_line) continue;
+        json children = json::array();
+        for (const auto& d : sequence_definitions(doc, pi, kMaxSequenceSymbols)) {
+            std::string detail(std::string_view(src.text()).substr(d.range.end, d.block.end - d.range.end));
+            detail = std::string(trim_blanks(detail)).substr(0, 60);
+            json sym = {{"name", d.name},
+                        {"kind", 20},  // Key
+                        {"range", to_lsp_range(src, d.block, enc)},
+                        {"selectionRange", to_lsp_range(src, d.range, enc)}};
+            if (!detail.empty()) sym["detail"] = detail;
+            children.push_back(std::move(sym));
+        }
+        if (p.name.empty() && children.empty()) continue;
+        const uint32_t begin = src.line_start(first_line);
+        const ByteRange whole{begin, begin + static_cast<uint32_t>(src.line_text(last_line).size()) +
+                                         (src.line_start(last_line) - begin)};
+        const ByteRange first_range{begin, begin + static_cast<uint32_t>(src.line_text(first_line).size())};
+        json sym = {{"name", p.name.empty() ? std::string("(unnamed program)") : p.name},
+                    {"kind", 12},  // Function
+                    {"range", to_lsp_range(src, whole, enc)},
+                    {"selectionRange", to_lsp_range(src, p.name.empty() ? first_range : p.name_range, enc)},
+                    {"children", std::move(children)}};
+        out.push_back(std::move(sym));
+    }
+    return out;
+}
+
 }  // namespace osplint::lsp

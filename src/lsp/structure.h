@@ -1,7 +1,8 @@
 // Language server: the structure of a document. Folding ranges (programs,
 // WHILE/DO ... END loops as the engine pairs them, MODIN ... MODOUT, runs of
-// comment lines), semantic tokens (what each name and word is), and the
-// programs of the open documents and of the workspace folder.
+// comment lines), semantic tokens (what each name and word is), the symbols
+// of a document, and the programs of the open documents and of the workspace
+// folder.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,11 @@ json semantic_tokens_legend();
 // The tokens of lines [first, last] (1-based; 0 = to the end), encoded as
 // the LSP relative integers with columns in `enc`.
 json semantic_tokens(const DocumentModel& doc, Encoding enc, uint32_t first = 1, uint32_t last = 0);
+
+// --- document symbols ------------------------------------------------------
+// Programs, with their sequence names (at most kMaxSequenceSymbols per program).
+inline constexpr size_t kMaxSequenceSymbols = 5000;
+json document_symbols(const DocumentModel& doc, Encoding enc);
 
 // --- workspace symbols -----------------------------------------------------
 struct SymbolSource {

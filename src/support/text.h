@@ -11,6 +11,8 @@ namespace osplint {
 inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
 inline char ascii_upper(char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; }
 inline char ascii_lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
+// An ASCII letter or digit (as std::isalnum in the "C" locale).
+inline bool is_alnum(char c) { return (c >= '0' && c <= '9') || (ascii_upper(c) >= 'A' && ascii_upper(c) <= 'Z'); }
 
 // ASCII upper case of `s` (bytes outside a-z unchanged).
 std::string upper(std::string_view s);
