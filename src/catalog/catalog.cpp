@@ -7,6 +7,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <charconv>
 #include <mutex>
 #include <stdexcept>
@@ -116,7 +117,10 @@ const std::vector<ExprTerm>* catalog_expr(std::string_view text) {
     };
     thread_local std::array<Recent, 64> recent{};
     Recent& r = recent[(reinterpret_cast<uintptr_t>(text.data()) >> 3) & 63];
-    if (r.data == text.data() && r.entry && std::string_view(r.entry->first) == text)
+    // Sizes, then bytes: a plain memcmp, which the compiler keeps inline here
+    // (string_view's operator== it may leave as a call).
+    if (r.data == text.data() && r.entry && r.entry->first.size() == text.size() &&
+        std::memcmp(r.entry->first.data(), text.data(), text.size()) == 0)
         return r.entry->second ? &*r.entry->second : nullptr;
     auto it = parsed.find(text);
     if (it == parsed.end()) it = parsed.emplace(std::string(text), parse_catalog_expr(text)).first;
@@ -292,8 +296,41 @@ const MacroSpec* Catalog::find_by_code(std::string_view code) const {
     return it == codes_.end() ? nullptr : find(it->second);
 }
 
+void Catalog::index_macros() {
+    macro_index_.clear();
+    macro_index_of_ = 0;
+    if (macros_.empty() || macros_.size() > 0xFFFFFFFFu) return;
+    for (const auto& m : macros_)
+        if (!packed_name(m.name)) return;  // a name too long to pack: find() compares the names
+    size_t slots = 4;
+    while (slots < 2 * macros_.size()) slots *= 2;
+    std::vector<std::pair<uint64_t, uint32_t>> table(slots, {0, 0});
+    for (size_t i = 0; i < macros_.size(); ++i) {
+        const uint64_t key = packed_name(macros_[i].name);
+        size_t s = arg_slot(key, slots - 1);
+        while (table[s].first && table[s].first != key) s = (s + 1) & (slots - 1);
+        if (!table[s].first) table[s] = {key, static_cast<uint32_t>(i)};  // the first of a name, as the search
+    }
+    macro_index_ = std::move(table);
+    macro_index_of_ = macros_.size();
+}
+
 const MacroSpec* Catalog::find(std::string_view name) const {
     if (name.empty()) return nullptr;
+    if (!macro_index_.empty() && macro_index_of_ == macros_.size()) {
+        const uint64_t key = packed_name(name);
+        if (!key) return nullptr;  // every name is packed: a longer one is none of them
+        const size_t mask = macro_index_.size() - 1;
+        for (size_t s = arg_slot(key, mask);; s = (s + 1) & mask) {
+            if (!macro_index_[s].first) return nullptr;  // the table is at most half full
+            if (macro_index_[s].first != key) continue;
+            // Packing drops the difference a NUL byte makes ("A" and "\0A"):
+            // the name itself decides, by the search below when it differs.
+            const MacroSpec& m = macros_[macro_index_[s].second];
+            if (iequals(m.name, name)) return &m;
+            break;
+        }
+    }
     // Most names have five letters and share their first ones (OG87C, OG87N):
     // the last letter tells them apart before the whole name is compared.
     const char last = ascii_upper(name.back());

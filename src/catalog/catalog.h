@@ -326,6 +326,14 @@ public:
     std::string render_card(const MacroSpec& spec, bool markdown) const;
 
 private:
+    // `macros_` by name, made by merge (the only place macros are added): the
+    // same open-addressed table of packed names as MacroSpec::arg_index,
+    // holding positions in `macros_`. find() runs for every call of a program.
+    // Empty, or made for another number of macros: find() compares the names.
+    void index_macros();
+    std::vector<std::pair<uint64_t, uint32_t>> macro_index_;
+    size_t macro_index_of_ = 0;  // macros_.size() when it was made
+
     std::deque<MacroSpec> macros_;
     std::deque<CycleSpec> cycles_;
     std::map<std::string, std::string> codes_;  // "G114" -> "OG84L"

@@ -777,6 +777,7 @@ void Catalog::merge(const toml::table& macros_table, const std::string& origin) 
         if (register_codes)
             for (const auto& c : target->codes) codes_[c] = target->name;
     }
+    index_macros();
 }
 
 }  // namespace osplint
