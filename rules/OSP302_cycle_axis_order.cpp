@@ -36,12 +36,10 @@ struct Side {
     ByteRange range;
 };
 
-// `describe` false: the value only (most relations hold, and then no text is
-// needed). `lookup(name)` gives a Value.
+// The side's value with the text of a finding. `lookup(name)` gives a Value.
 template <class Lookup>
-Side evaluate_side(const std::string& text, const Lookup& lookup, bool describe) {
+Side evaluate_side(const std::vector<ExprTerm>* terms, const Lookup& lookup) {
     Side s;
-    const auto* terms = catalog_expr(text);
     if (!terms) return s;
     double sum = 0;
     std::string shown;
@@ -52,21 +50,46 @@ Side evaluate_side(const std::string& text, const Lookup& lookup, bool describe)
             Value x = lookup(t.name);
             if (!x.known) return s;
             v = x.value;
-            if (describe && !x.how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + x.how;
+            if (!x.how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + x.how;
             s.current = s.current || x.current;
             if (s.range.empty() && !x.range.empty()) s.range = x.range;
         }
         sum += t.sign * v;
-        if (!describe) continue;
         std::string num = v < 0 && (i > 0 || t.sign < 0) ? "(" + motion_number(v) + ")" : motion_number(v);
         shown += (i == 0 ? (t.sign < 0 ? "-" : "") : (t.sign < 0 ? "-" : "+")) + num;
     }
     s.known = true;
     s.value = sum;
-    if (describe) s.shown = terms->size() == 1 ? motion_number(sum) : shown + " = " + motion_number(sum);
+    s.shown = terms->size() == 1 ? motion_number(sum) : shown + " = " + motion_number(sum);
     return s;
 }
 
+// A side's value only, and whether it reads the current position: what every
+// call needs (most relations hold, and then no text and no range are needed).
+struct SideValue {
+    bool known = false;
+    double value = 0;
+    bool current = false;
+};
+template <class Lookup>
+SideValue side_value(const std::vector<ExprTerm>* terms, const Lookup& lookup) {
+    SideValue s;
+    if (!terms) return s;
+    double sum = 0;
+    for (const ExprTerm& t : *terms) {
+        double v = t.number;
+        if (!t.name.empty()) {
+            Value x = lookup(t.name);
+            if (!x.known) return s;
+            v = x.value;
+            s.current = s.current || x.current;
+        }
+        sum += t.sign * v;
+    }
+    s.known = true;
+    s.value = sum;
+    return s;
+}
 
 // A side made only of cycle-axis coordinates and numbers (PR, PZ+1): a point on the axis.
 bool is_point(const std::string& text, const MacroSpec& spec) {
@@ -144,19 +167,21 @@ public:
                 return a && macro::given(*c, *a) ? Tri::True : Tri::False;
             });
             if (applies != Tri::True) continue;
-            Side l = evaluate_side(r.left, lookup, false), rt = evaluate_side(r.right, lookup, false);
-            if (!l.known || !rt.known) continue;
-            const bool uses_current = l.current || rt.current;
+            const auto* left = catalog_expr(r.left);
+            const auto* right = catalog_expr(r.right);
+            const SideValue lv = side_value(left, lookup), rv = side_value(right, lookup);
+            if (!lv.known || !rv.known) continue;
+            const bool uses_current = lv.current || rv.current;
             // On positioning blocks of an open MODIN only the relations that
             // depend on the current position are new; report those once per MODIN.
             if (c->kind == CallKind::ModinPositioning) {
                 if (!uses_current) continue;
                 if (reported_.count({c->modin_line, i})) continue;
             }
-            if (relation_holds(l.value, r.op, rt.value)) continue;
+            if (relation_holds(lv.value, r.op, rv.value)) continue;
             describe = true;
-            l = evaluate_side(r.left, lookup, true);
-            rt = evaluate_side(r.right, lookup, true);
+            const Side l = evaluate_side(left, lookup);
+            const Side rt = evaluate_side(right, lookup);
             describe = false;
             report(ctx, v, *spec, r, l, rt, plane, axis);
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
