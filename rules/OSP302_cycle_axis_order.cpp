@@ -159,7 +159,9 @@ public:
 
         for (size_t i = 0; i < spec->relations.size(); ++i) {
             const Relation& r = spec->relations[i];
-            if (!macro::is_order_relation(r, *spec)) continue;
+            const auto* left = catalog_expr(r.left);
+            const auto* right = catalog_expr(r.right);
+            if (!macro::is_order_relation(left, right, *spec)) continue;
             // Only what the call's own words decide.
             const Tri applies = r.when.eval([&](const ConditionAtom& at) {
                 if (at.kind != ConditionAtom::Kind::Given) return Tri::Unknown;
@@ -167,8 +169,6 @@ public:
                 return a && macro::given(*c, *a) ? Tri::True : Tri::False;
             });
             if (applies != Tri::True) continue;
-            const auto* left = catalog_expr(r.left);
-            const auto* right = catalog_expr(r.right);
             const SideValue lv = side_value(left, lookup), rv = side_value(right, lookup);
             if (!lv.known || !rv.known) continue;
             const bool uses_current = lv.current || rv.current;

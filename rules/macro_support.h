@@ -62,6 +62,18 @@ inline bool is_order_relation(const Relation& r, const MacroSpec& spec) {
     }
     return false;
 }
+// The same for the sides catalog_expr gave (nullptr: not parsed), for a
+// caller that reads them next.
+inline bool is_order_relation(const std::vector<ExprTerm>* left, const std::vector<ExprTerm>* right,
+                              const MacroSpec& spec) {
+    for (const auto* terms : {left, right}) {
+        if (!terms) return false;
+        for (const auto& t : *terms)
+            if (!t.name.empty())
+                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
+    }
+    return false;
+}
 
 // The argument as given (by its name or one of its aliases), or nullptr.
 inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) { return c.given(a); }
