@@ -117,6 +117,7 @@ using motion_detail::has_code;
 using motion_detail::hole_envelope;
 using motion_detail::is_any_axis;
 using motion_detail::is_cycle_macro;
+using motion_detail::macro_end_point;
 using motion_detail::macro_envelope;
 
 std::string MotionPoint::describe() const {
@@ -205,9 +206,7 @@ std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalStat
     if (before.distance.is(Distance::Incremental) && spec.g91 == G91Mode::Unsupported) return std::nullopt;
     if (!before.distance.known && spec.g91 == G91Mode::Unsupported) return std::nullopt;
     if (!before.units.is(Units::Mm) && spec.units == MacroUnits::MmOnly) return std::nullopt;
-    std::optional<Envelope> env = macro_envelope(b, before, after, *call, spec, nullptr, /*describe=*/false);
-    if (!env || !env->plane || !env->end.known) return std::nullopt;
-    return std::pair{env->axis, env->end.value};
+    return macro_end_point(b, before, after, *call, spec);
 }
 
 std::optional<Envelope> cycle_envelope(const BlockView& v, const Config& config) {

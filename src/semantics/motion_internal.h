@@ -86,11 +86,15 @@ MotionPoint step_point(const ActionStep& step);
 // Sets the extremes and the bounds of an envelope from its points.
 void finish(Envelope& env);
 
-// `config` nullptr: the + travel limit (M52) is not known. `describe` false:
-// only `end` is set (no points, notes or plane spans), for the transfer step.
+// `config` nullptr: the + travel limit (M52) is not known.
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config* config,
-                                       bool describe = true);
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config);
+// The cycle axis and the `end` of macro_envelope (no travel limit known),
+// when the plane and the end are known: for the transfer step, which needs
+// nothing else of the envelope on every macro call.
+std::optional<std::pair<char, double>> macro_end_point(const Block& b, const ModalState& before,
+                                                       const ModalState& after, const MacroCall& call,
+                                                       const MacroSpec& spec);
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                       const Config& config);
 

@@ -404,8 +404,7 @@ void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup,
 }  // namespace
 
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config* config,
-                                       bool describe) {
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config) {
     Envelope env;
     env.source = MotionSource::Macro;
     env.name = spec.name;
@@ -426,12 +425,8 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
     env.axis = plane_axes(plane).cycle;
     env.start = before.axis(env.axis);
 
-    const MacroRun run{b, before, after, call, spec, config, plane, env.axis, describe};
+    const MacroRun run{b, before, after, call, spec, config, plane, env.axis};
     const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
-    if (!describe) {
-        env.end = action_end(run, lookup, env.axis);
-        return env;
-    }
     walk_action(run, lookup, env);
     if (spec.g91 == G91Mode::Unsupported && env.incremental)
         env.notes.push_back(spec.name + " does not work under G91 (its motion is shifted); the envelope is the G90 reading");
@@ -441,6 +436,18 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
     add_plane_spans(env, spec, lookup, plane, plane_centre(run, env));
     finish(env);
     return env;
+}
+
+std::optional<std::pair<char, double>> macro_end_point(const Block& b, const ModalState& before,
+                                                       const ModalState& after, const MacroCall& call,
+                                                       const MacroSpec& spec) {
+    if (!before.plane.known) return std::nullopt;
+    const char axis = plane_axes(before.plane.value).cycle;
+    const MacroRun run{b, before, after, call, spec, nullptr, before.plane.value, axis, /*describe=*/false};
+    const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
+    const Val<double> end = action_end(run, lookup, axis);
+    if (!end.known) return std::nullopt;
+    return std::pair{axis, end.value};
 }
 
 }  // namespace osplint::motion_detail
