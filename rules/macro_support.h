@@ -52,18 +52,8 @@ inline const Word* m_code(const MacroCall& c, double code) {
 // Whether a catalog relation orders cycle-axis coordinates (PR > PZ): those
 // are OSP302's, the others (FA > F, Q > K) OSP103's. The catalog refuses an
 // expression it cannot parse when it loads.
-inline bool is_order_relation(const Relation& r, const MacroSpec& spec) {
-    for (const auto* side : {&r.left, &r.right}) {
-        const auto* terms = catalog_expr(*side);
-        if (!terms) return false;
-        for (const auto& t : *terms)
-            if (!t.name.empty())
-                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
-    }
-    return false;
-}
-// The same for the sides catalog_expr gave (nullptr: not parsed), for a
-// caller that reads them next.
+// This form takes the sides as catalog_expr gave them (nullptr: not parsed),
+// for a caller that reads them next.
 inline bool is_order_relation(const std::vector<ExprTerm>* left, const std::vector<ExprTerm>* right,
                               const MacroSpec& spec) {
     for (const auto* terms : {left, right}) {
@@ -73,6 +63,9 @@ inline bool is_order_relation(const std::vector<ExprTerm>* left, const std::vect
                 if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
     }
     return false;
+}
+inline bool is_order_relation(const Relation& r, const MacroSpec& spec) {
+    return is_order_relation(catalog_expr(r.left), catalog_expr(r.right), spec);
 }
 
 // The argument as given (by its name or one of its aliases), or nullptr.
