@@ -69,7 +69,9 @@ MacroCall statement_call(const Block& b, const Statement& st, const Catalog& cat
         } else if (w.address == "Q" && !call.repeat) {
             call.repeat = &w;
         } else if (w.range.begin > st.keyword_range.begin) {
-            call.args.emplace_back(w.address, &w);  // built in place: no temporary to move
+            auto& a = call.args.emplace_back();  // built in place: no temporary to move
+            a.name = w.address;
+            a.word = &w;
         }
     }
     return call;
@@ -120,7 +122,7 @@ std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState
     call.spec = catalog.find(m.macro);
     call.modin_line = m.line;
     call.args.reserve(m.given.size());
-    for (const auto& name : m.given) call.args.emplace_back(name, nullptr);
+    for (const auto& name : m.given) call.args.emplace_back().name = name;
     // The known values: one walk of the (small) map, not a search by name per argument.
     for (const auto& [name, value] : m.values)
         for (auto& a : call.args)
