@@ -24,7 +24,13 @@ if [[ ! -f "$dir/core/build.ninja" ]]; then
     -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DOSPLINT_SANITIZE=ON -DOSPLINT_FUZZ=ON \
     -DCMAKE_C_FLAGS=-fsanitize=fuzzer-no-link -DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link >/dev/null
 fi
-ninja -C "$dir/core" -j "$jobs" diff_fuzz >/dev/null
+# Quiet when the build succeeds; its output when it fails, which would otherwise
+# leave only a bare exit status behind.
+if ! build_log=$(ninja -C "$dir/core" -j "$jobs" diff_fuzz 2>&1); then
+  echo "fuzz/run.sh: building the fuzzer failed:" >&2
+  echo "$build_log" | grep -E "error|FAILED" | head -40 >&2
+  exit 4
+fi
 target="$dir/core/diff_fuzz"
 
 # Seeds: every program of the repository (small ones), as they are, and the
