@@ -197,10 +197,14 @@ void Walk::walk_blocks() {
         converge_if_due();
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
-        if (!read(b, line)) break;
+        if (!read(b, line, moves_with_rules())) break;
         uint32_t extent = 0;
-        if (flow_.has_flow() && loop_head(b, line.start, extent)) walk_loop(b, line);
-        else visit(b, line, Mode::Rules);
+        if (flow_.has_flow() && loop_head(b, line.start, extent)) {
+            read_whole(b, line);  // a loop may hold its head
+            walk_loop(b, line);
+        } else {
+            visit(b, line, Mode::Rules);
+        }
     }
 }
 
@@ -393,7 +397,7 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
             if (loop_mark_next_ < loop_marks_.size() && loop_marks_[loop_mark_next_].offset == main_.next_offset())
                 take_loop_checkpoint();
         }
-        if (!read(b, line, plain_ok_ && mode == Mode::Iterate)) break;
+        if (!read(b, line, mode == Mode::Iterate ? plain_ok_ : moves_with_rules())) break;
         if (mode == Mode::Iterate && converged(line.start, index, true)) return false;
         visit(b, line, mode);
     }
@@ -558,6 +562,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     }
     if (!reachable_) {
         if (!rules) return;
+        read_whole(b, line);
         const std::optional<MacroCall> call = resolve(b, unknown_);
         ModalState after = unknown_;
         apply_block(b, call ? &*call : nullptr, config_.catalog, after);
@@ -589,17 +594,19 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         near_ = true;
         return;
     }
-    if (partial) {  // in a fixed cycle or under MODIN, the block is more than a plain move
-        parser_.parse(line, whole_buf_);
-        partial_ = nullptr;
-    }
-    const Block& whole = partial ? whole_buf_ : b;
-    const std::optional<MacroCall> call = resolve(whole, *A_);
+    read_whole(b, line);  // in a fixed cycle or under MODIN, the block is more than a plain move
+    const std::optional<MacroCall> call = resolve(b, *A_);
     *B_ = *A_;
-    apply_block(whole, call ? &*call : nullptr, config_.catalog, *B_);
+    apply_block(b, call ? &*call : nullptr, config_.catalog, *B_);
     near_ = false;
-    if (rules) check(BlockView{whole, *A_, *B_, call ? &*call : nullptr, true}, line, false);
-    leave(whole, line);
+    if (rules) check(BlockView{b, *A_, *B_, call ? &*call : nullptr, true}, line, false);
+    leave(b, line);
+}
+
+void Walk::read_whole(const Block& b, const LineRef& line) {
+    if (&b != partial_) return;
+    parser_.parse(line, *partial_);
+    partial_ = nullptr;
 }
 
 void Walk::check(const BlockView& view, const LineRef& line, bool plain) {

@@ -246,8 +246,15 @@ private:
 
     // --- reading
     // With `moves`, a plain move may be read in part (FastLineParser::parse_moves):
-    // enough for a sweep without the rules; visit parses it whole when it needs more.
+    // enough for a sweep without the rules, and for the rules that look at
+    // plain moves (their address, range, number and sequence name); visit
+    // parses it whole (`read_whole`) when it needs more.
     bool read(Block& b, LineRef& line, bool moves = false);
+    // The block `b` read last, parsed whole if it was read in part.
+    void read_whole(const Block& b, const LineRef& line);
+    // Whether a walk with the rules may read plain moves in part: not for an
+    // observer (trace, hover), which sees every field of every block.
+    bool moves_with_rules() const { return plain_ok_ && !options_.observer; }
     void fail(std::string message);
 
     // --- the walk
@@ -477,8 +484,7 @@ private:
     uint64_t pending_kind_ = 0;
     Folder folder_{0};
     Block block_buf_;           // the block read last by the walk
-    const Block* partial_ = nullptr;  // the block read last, when read in part (read with `moves`)
-    Block whole_buf_;                 // that block, parsed whole
+    Block* partial_ = nullptr;  // the block read last, when read in part (read with `moves`)
     Block comment_block_;       // a line parsed again for its comments
     // The fingerprint text of the last line a finding was on: a line with many
     // findings is read and folded once.

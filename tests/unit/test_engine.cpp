@@ -20,6 +20,7 @@
 #include <cstring>
 #include <map>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -480,6 +481,37 @@ TEST_CASE("engine: plain moves in every modal state give the reference's result"
     }
     // The rules that look at plain moves had findings to compare.
     for (const char* id : {"OSP003", "OSP004", "OSP212", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
+}
+
+TEST_CASE("engine: plain moves around jumps and loops give the reference's result") {
+    // The walk with the rules reads plain moves in part too; a loop's head,
+    // a block no path reaches and a block the state makes more than a move
+    // are parsed whole. Travel limits make the rules look at every move.
+    Config config;
+    config.travel['X'] = TravelLimit{-300, 300};
+    config.travel['Y'] = TravelLimit{-200, 200};
+    config.travel['Z'] = TravelLimit{-300, 100};
+    config.rule_severity["OSP003"] = Severity::Warning;
+    std::mt19937 rng(4242);
+    std::map<std::string, int> seen;
+    for (int i = 0; i < 150; ++i) {
+        std::vector<std::string> lines;
+        std::istringstream in(plain_move_program(rng));
+        for (std::string l; std::getline(in, l);) lines.push_back(l);
+        REQUIRE(lines.size() >= 3);
+        // Head and jump back around the body; a jump over moves no path reaches.
+        const size_t skip = 1 + rng() % (lines.size() - 2);
+        std::string text = lines.front() + "\nVC9=0\nN800 G0 X" + std::to_string(rng() % 700) + ". Z-350.\n";
+        for (size_t k = 1; k + 1 < lines.size(); ++k) {
+            if (k == skip) text += "GOTO N810\nX999. Z-999.\nG1 X-999. Y5.\nN810 G1 X1. Y1. Z-350.\n";
+            text += lines[k] + "\n";
+        }
+        text += rng() % 2 ? "VC9=VC9+1\nIF [VC9 LT 2] N800\n" : "WHILE [VC9 LT 2] DO 1\nX500. Y-500.\nVC9=VC9+1\nEND 1\n";
+        text += lines.back() + "\n";
+        compare_checks("jumps" + std::to_string(i) + ".min", text, config);
+        for (const auto& d : check_text("p.min", text, config).diagnostics) ++seen[d.rule];
+    }
+    for (const char* id : {"OSP003", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
 }
 
 TEST_CASE("columns: a finding that starts inside a multi-byte character does not shift the next one") {
