@@ -166,7 +166,7 @@ std::shared_ptr<FrozenWalk> Walk::freeze() {
 void Walk::take_checkpoint() {
     auto c = std::make_shared<WalkCheckpoint>();
     c->outline = shared_outline_;
-    c->pending_offset = pending_offset_;
+    c->pending_offset = pending_offset_.map();
     c->frozen = freeze();
     c->summaries = walk_summaries_;
     options_.checkpoints->push_back(std::move(c));
@@ -292,7 +292,7 @@ SweepState Walk::sweep_state(uint32_t extent, uint32_t index) const {
     s.flowing = MaybeState{reachable_, reachable_ ? *A_ : ModalState{}};
     s.join = join_;
     s.pending_name = pending_name_;
-    s.pending_offset = pending_offset_;
+    s.pending_offset = pending_offset_.map();
     s.defs = defs_;
     s.final_state = final_state_;
     s.probes = probes_;

@@ -95,7 +95,7 @@ bool Walk::sweep_is(const SweepState& s, uint32_t extent, uint32_t index) const 
     return s.index == index && s.extent == extent && s.loop_changed == loop_changed_ && s.stamp == stamp_ &&
            same_state(s.flowing, MaybeState{reachable_, reachable_ ? *A_ : ModalState{}}) &&
            same_state(s.final_state, final_state_) && same_states(s.join, join_) &&
-           same_states(s.pending_offset, pending_offset_) && same_states(s.pending_name, pending_name_) &&
+           same_states(s.pending_offset, pending_offset_.map()) && same_states(s.pending_name, pending_name_) &&
            s.defs == defs_ && same_states(s.probes, probes_) &&
            s.join_stamps == join_stamps_;
 }
@@ -165,7 +165,7 @@ bool Walk::same_as_moved(const WalkCheckpoint& old) const {
         return false;
     // Inside a loop, the states left at blocks further on are the first
     // sweep's with what the walk brought to them (compared by the caller).
-    if (!old.loop && !same_moved_map(pending_offset_, old.pending_offset, m)) return false;
+    if (!old.loop && !same_moved_map(pending_offset_.map(), old.pending_offset, m)) return false;
     if (pending_name_.size() != f.pending_name.size()) return false;
     for (const auto& [name, st] : f.pending_name) {
         const auto it = pending_name_.find(name);

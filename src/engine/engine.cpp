@@ -418,14 +418,12 @@ void Walk::set_state(const MaybeState& s) {
 void Walk::enter(const Block& b, uint32_t offset) {
     const bool labelled = b.sequence && tracks_labels_ && flow_.is_referenced(b.sequence->name);
     const MaybeState* by_name = nullptr;
-    const MaybeState* by_offset = nullptr;
     if (labelled) {
         auto& defs = defs_[b.sequence->name];
         if (defs.empty() || defs.back() < offset) defs.push_back(offset);
         if (auto it = pending_name_.find(b.sequence->name); it != pending_name_.end()) by_name = &it->second;
     }
-    if (!pending_offset_.empty())
-        if (auto it = pending_offset_.find(offset); it != pending_offset_.end()) by_offset = &it->second;
+    const MaybeState* by_offset = pending_offset_.find(offset);
     if (!by_name && !by_offset) return;  // no path but the one falling into the block
     // The merge is made in place, in the state flowing in.
     bool reachable = reachable_;

@@ -27,6 +27,7 @@ ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end)
                 for (const FlowStatement& h : head->statements)
                     if (h.kind == StmtKind::While) pair.while_loop = true;
                 by_head_[pair.head] = pair;
+                heads_.add(pair.head);
                 by_end_[pair.end] = pair;
             } else if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty()) {
                 uint32_t& last = last_jump_.try_emplace(st.name, 0).first->second;
@@ -37,6 +38,7 @@ ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end)
 }
 
 const LoopPair* ProgramFlow::loop_at_head(uint32_t offset) const {
+    if (!heads_.may_hold(offset)) return nullptr;
     auto it = by_head_.find(offset);
     return it == by_head_.end() ? nullptr : &it->second;
 }

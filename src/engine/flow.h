@@ -26,6 +26,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/offset_filter.h"
 #include "syntax/model.h"
 #include "syntax/outline.h"
 
@@ -66,6 +67,7 @@ private:
     uint64_t end_ = 0;
     bool flow_ = false;
     std::unordered_map<uint32_t, LoopPair> by_head_, by_end_;
+    OffsetFilter heads_;  // the offsets of by_head_: most blocks are not a loop's head
     std::unordered_map<std::string, uint32_t, NameHash, std::equal_to<>> last_jump_;
     std::unordered_set<std::string, NameHash, std::equal_to<>> references_;
 };

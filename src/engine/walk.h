@@ -20,6 +20,7 @@
 #include "engine/fingerprint.h"
 #include "engine/fold.h"
 #include "engine/flow.h"
+#include "engine/offset_filter.h"
 #include "engine/positions.h"
 #include "engine/summaries.h"
 #include "engine/suppress.h"
@@ -57,6 +58,38 @@ struct MaybeState {
         state.merge_jump(o, line, range);
         return !(state == before);
     }
+};
+
+// The states loop edges left for blocks further on, by the offset of the
+// block they flow into: the walk asks for every block it enters, and the
+// filter answers most of those without searching the map.
+class OffsetStates {
+public:
+    using Map = std::map<uint32_t, MaybeState>;
+    OffsetStates& operator=(const Map& m) {
+        map_ = m;
+        filter_.clear();
+        for (const auto& [offset, state] : map_) filter_.add(offset);
+        return *this;
+    }
+    const Map& map() const { return map_; }
+    MaybeState& operator[](uint32_t offset) {
+        filter_.add(offset);
+        return map_[offset];
+    }
+    const MaybeState* find(uint32_t offset) const {
+        if (map_.empty() || !filter_.may_hold(offset)) return nullptr;
+        auto it = map_.find(offset);
+        return it == map_.end() ? nullptr : &it->second;
+    }
+    void clear() {
+        map_.clear();
+        filter_.clear();
+    }
+
+private:
+    Map map_;
+    OffsetFilter filter_;
 };
 
 // A line of a loop held in memory while the loop is iterated.
@@ -425,7 +458,7 @@ private:
     bool seen_main_ = false;
     bool tracks_labels_ = false;  // the program references sequence names
     std::unordered_map<std::string, MaybeState> pending_name_;  // states left by jumps, by target name
-    std::map<uint32_t, MaybeState> pending_offset_;             // states left by loop edges, by target block
+    OffsetStates pending_offset_;                               // states left by loop edges, by target block
     std::unordered_map<std::string, std::vector<uint32_t>> defs_;  // referenced names -> blocks defining them
     MaybeState final_state_;
 
