@@ -758,9 +758,16 @@ void apply_plain_move(const Block& b, ModalState& s) {
     // call, no cycle (known), so every X/Y/Z is a move read in the state before
     // the block, and F sets the feed.
     s.clear_one_shots();
-    const Val<double> before[3] = {s.x, s.y, s.z};
     const bool known = s.distance.known;
     const bool absolute = s.distance.value == Distance::Absolute;
+    // An incremental move adds to the position before the block (read only
+    // then: in absolute mode, the common one, no axis reads the old value).
+    Val<double> before[3];
+    if (known && !absolute) {
+        before[0] = s.x;
+        before[1] = s.y;
+        before[2] = s.z;
+    }
     for (const auto& w : b.words) {
         const double v = *w.number;
         int axis = 0;

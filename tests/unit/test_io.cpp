@@ -51,6 +51,22 @@ TEST_CASE("skip_lines: the start of the line n lines on, on every kind of line e
     }
 }
 
+TEST_CASE("find_line_break: the first CR or LF, wherever it falls in a 32-byte step") {
+    std::mt19937 rng(78);
+    for (int k = 0; k < 5000; ++k) {
+        std::string t;
+        const size_t size = rng() % 100;
+        // Mostly text, so that the first line end falls on every place of both 16-byte halves.
+        while (t.size() < size) t += rng() % 24 ? 'X' : "\r\n"[rng() % 2];
+        for (size_t from = 0; from <= t.size(); from += 1 + rng() % 7) {
+            const char* got = find_line_break(t.data() + from, t.data() + t.size());
+            const size_t want = t.find_first_of("\r\n", from);
+            if (want == std::string::npos) REQUIRE_MESSAGE(got == nullptr, "from " << from << " in '" << t << "'");
+            else REQUIRE_MESSAGE(got == t.data() + want, "from " << from << " in '" << t << "'");
+        }
+    }
+}
+
 TEST_CASE("a line longer than kMaxLineLength stops the line stream") {
     for (size_t chunk : {size_t(7), size_t(64) << 10, size_t(4) << 20}) {
         const std::string ok_line(kMaxLineLength, 'X');
