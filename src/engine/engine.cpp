@@ -592,7 +592,9 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         near_ = true;
         return;
     }
-    read_whole(b, line);  // in a fixed cycle or under MODIN, the block is more than a plain move
+    // A block read in part that is more than a plain move here (in a fixed
+    // cycle, under MODIN) is parsed whole; a block read whole stays as it is.
+    read_whole(b, line);
     const std::optional<MacroCall> call = resolve(b, *A_);
     *B_ = *A_;
     apply_block(b, call ? &*call : nullptr, config_.catalog, *B_);
