@@ -132,6 +132,12 @@ void Walk::fail(std::string message) {
 }
 
 bool Walk::read(Block& b, LineRef& line, bool moves) {
+    if (!fetch(line)) return false;
+    parse(b, line, moves);
+    return true;
+}
+
+bool Walk::fetch(LineRef& line) {
     if (!main_.next(line)) {
         if (main_.error()) fail(main_.stop_reason().empty() ? src_.error() : main_.stop_reason());
         else fail(kChangedMessage);
@@ -143,13 +149,16 @@ bool Walk::read(Block& b, LineRef& line, bool moves) {
     }
     positions_.note_line(line);
     ++stats_.blocks_parsed;
-    if (!(moves ? parser_.parse_moves(line, b) : parser_.parse(line, b))) ++stats_.fallback_lines;
-    partial_ = moves && parser_.last_partial() ? &b : nullptr;
     if (options_.cancel && (++walked_ & 1023) == 0 && options_.cancel->load(std::memory_order_relaxed)) {
         fail(std::string(kCancelled));
         return false;
     }
     return true;
+}
+
+void Walk::parse(Block& b, const LineRef& line, bool moves) {
+    if (!(moves ? parser_.parse_moves(line, b) : parser_.parse(line, b))) ++stats_.fallback_lines;
+    partial_ = moves && parser_.last_partial() ? &b : nullptr;
 }
 
 // ------------------------------------------------------------- programs
@@ -333,11 +342,19 @@ bool Walk::first_sweep(uint32_t index, uint32_t& extent, HeldLoop* held) {
         if (may_converge)
             if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
         mark_loop(extent, index);
-        const bool holding = held && held->holding;
-        if (!read(b, line, plain_ok_ && !holding)) break;
-        loop_head(b, line.start, extent);
-        if (holding) held->hold(b, line, options_.held_loop_blocks);
+        if (!fetch(line)) break;
+        if (held && held->holding) {
+            parse(b, line, false);
+            loop_head(b, line.start, extent);
+            held->hold(b, line, options_.held_loop_blocks);
+            converged(line.start, index, false);
+            visit(b, line, Mode::Iterate);
+            continue;
+        }
         converged(line.start, index, false);
+        if (skim(line)) continue;
+        parse(b, line, plain_ok_);
+        loop_head(b, line.start, extent);
         visit(b, line, Mode::Iterate);
     }
     return false;
@@ -397,8 +414,15 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
             if (loop_mark_next_ < loop_marks_.size() && loop_marks_[loop_mark_next_].offset == main_.next_offset())
                 take_loop_checkpoint();
         }
-        if (!read(b, line, mode == Mode::Iterate ? plain_ok_ : moves_with_rules())) break;
-        if (mode == Mode::Iterate && converged(line.start, index, true)) return false;
+        if (mode == Mode::Iterate) {
+            if (!fetch(line)) break;
+            if (converged(line.start, index, true)) return false;
+            if (skim(line)) continue;
+            parse(b, line, plain_ok_);
+            visit(b, line, mode);
+            continue;
+        }
+        if (!read(b, line, moves_with_rules())) break;
         visit(b, line, mode);
     }
     return !stop_;
@@ -572,24 +596,10 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     const bool partial = &b == partial_;  // a plain move read in part
     const bool plain_line = partial || (parser_.last_plain() && &b == &block_buf_);
     if (plain_ok_ && (plain_line || is_plain_move_block(b)) && plain_move_state(*A_)) {
-        // A plain move (semantics/transfer.h). A and B differ at most in what a
-        // plain move sets when `near_`, so those fields make B equal to A again.
-        if (near_) {
-            B_->motion = A_->motion;
-            B_->g60_from = A_->g60_from;
-            B_->feed = A_->feed;
-            B_->feed_commanded = A_->feed_commanded;
-            B_->x = A_->x;
-            B_->y = A_->y;
-            B_->z = A_->z;
-        } else {
-            *B_ = *A_;
-        }
-        apply_plain_move(b, *B_);
+        // A plain move (semantics/transfer.h).
+        apply_plain_move(b, plain_after());
         if (rules) check(BlockView{b, *A_, *B_, nullptr, true}, line, true);
-        if (line.end() >= flow_.end()) bring_final(*B_);  // control falls off the last block
-        std::swap(A_, B_);
-        near_ = true;
+        plain_done(line);
         return;
     }
     // A block read in part that is more than a plain move here (in a fixed
@@ -601,6 +611,43 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     near_ = false;
     if (rules) check(BlockView{b, *A_, *B_, call ? &*call : nullptr, true}, line, false);
     leave(b, line);
+}
+
+ModalState& Walk::plain_after() {
+    // A and B differ at most in what a plain move sets when `near_`, so those
+    // fields make B equal to A again.
+    if (near_) {
+        B_->motion = A_->motion;
+        B_->g60_from = A_->g60_from;
+        B_->feed = A_->feed;
+        B_->feed_commanded = A_->feed_commanded;
+        B_->x = A_->x;
+        B_->y = A_->y;
+        B_->z = A_->z;
+    } else {
+        *B_ = *A_;
+    }
+    return *B_;
+}
+
+void Walk::plain_done(const LineRef& line) {
+    if (line.end() >= flow_.end()) bring_final(*B_);  // control falls off the last block
+    std::swap(A_, B_);
+    near_ = true;
+}
+
+// In a sweep without the rules, what visit does for a plain move that has no
+// sequence name and that no loop edge flows into, made from the move's
+// values alone: no block is built (FastLineParser::plain_move).
+bool Walk::skim(const LineRef& line) {
+    if (!plain_ok_ || !reachable_ || !plain_move_state(*A_)) return false;
+    if (!parser_.plain_move(line, plain_move_)) return false;
+    if (pending_offset_.find(line.start) || flow_.loop_at_head(line.start)) return false;
+    partial_ = nullptr;
+    ++stats_.transfers;
+    apply_plain_move(plain_move_, line.line, plain_after());
+    plain_done(line);
+    return true;
 }
 
 void Walk::read_whole(const Block& b, const LineRef& line) {

@@ -283,6 +283,13 @@ private:
     // plain moves (their address, range, number and sequence name); visit
     // parses it whole (`read_whole`) when it needs more.
     bool read(Block& b, LineRef& line, bool moves = false);
+    // read in two steps: the next line, then its block.
+    bool fetch(LineRef& line);
+    void parse(Block& b, const LineRef& line, bool moves);
+    // In a sweep without the rules: a plain move applied from its values
+    // alone, without a block; false for any other line (it is then parsed).
+    bool skim(const LineRef& line);
+    PlainMove plain_move_;
     // The block `b` read last, parsed whole if it was read in part.
     void read_whole(const Block& b, const LineRef& line);
     // Whether a walk with the rules may read plain moves in part: not for an
@@ -326,6 +333,9 @@ private:
     void contribute_offset(uint32_t target, uint32_t offset, uint32_t line, ByteRange range);
     void join_reached(uint32_t target, uint32_t offset, uint32_t line, ByteRange range);
     void set_state(const MaybeState& s);
+    // A plain move: the state it starts from in B (from A), then B flows on.
+    ModalState& plain_after();
+    void plain_done(const LineRef& line);
     void check(const BlockView& view, const LineRef& line, bool plain);
 
     // --- findings

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -753,7 +754,16 @@ bool plain_moves_possible(const Catalog& catalog) {
     return true;
 }
 
-void apply_plain_move(const Block& b, ModalState& s) {
+namespace {
+
+// What a plain move's word is made of, from a block or from a PlainMove.
+char address_of(const Word& w) { return w.address[0]; }
+double number_of(const Word& w) { return *w.number; }
+char address_of(const PlainMoveWord& w) { return w.address; }
+double number_of(const PlainMoveWord& w) { return w.number; }
+
+template <class Words>
+void apply_plain_words(const Words& words, uint32_t line, ModalState& s) {
     // apply_block on such a block: no G code but the motion mode, no M code, no
     // call, no cycle (known), so every X/Y/Z is a move read in the state before
     // the block, and F sets the feed.
@@ -768,13 +778,13 @@ void apply_plain_move(const Block& b, ModalState& s) {
         before[1] = s.y;
         before[2] = s.z;
     }
-    for (const auto& w : b.words) {
-        const double v = *w.number;
+    for (const auto& w : words) {
+        const double v = number_of(w);
         int axis = 0;
-        switch (w.address[0]) {
+        switch (address_of(w)) {
             case 'G':
                 s.motion = Val<int>::of(static_cast<int>(v));
-                s.g60_from.set(false, b.line, w.range);
+                s.g60_from.set(false, line, w.range);
                 continue;
             case 'F':
                 s.feed = Val<double>::of(v);
@@ -789,6 +799,14 @@ void apply_plain_move(const Block& b, ModalState& s) {
         else if (absolute) ax = Val<double>::of(v);
         else ax = before[axis].known ? Val<double>::of(before[axis].value + v) : Val<double>{};
     }
+}
+
+}  // namespace
+
+void apply_plain_move(const Block& b, ModalState& s) { apply_plain_words(b.words, b.line, s); }
+
+void apply_plain_move(const PlainMove& move, uint32_t line, ModalState& s) {
+    apply_plain_words(std::span<const PlainMoveWord>(move.words.data(), move.count), line, s);
 }
 
 bool ends_program(const Block& b) {

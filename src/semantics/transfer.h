@@ -8,6 +8,7 @@
 #include "semantics/calls.h"
 #include "semantics/config.h"
 #include "semantics/modal.h"
+#include "syntax/frontend_fast.h"
 #include "syntax/model.h"
 
 namespace osplint {
@@ -50,6 +51,8 @@ inline bool plain_move_state(const ModalState& s) {
 bool plain_moves_possible(const Catalog& catalog);
 // apply_block(block, nullptr, catalog, state) for a plain move in a plain-move state.
 void apply_plain_move(const Block& block, ModalState& state);
+// The same for the words of such a block read without it (FastLineParser::plain_move) on line `line`.
+void apply_plain_move(const PlainMove& move, uint32_t line, ModalState& state);
 
 // The value of a word in `state`: its literal, or its expression when it can be evaluated.
 std::optional<double> word_value(const Block& block, const Word& word, const ModalState& state);

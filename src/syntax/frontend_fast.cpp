@@ -480,11 +480,15 @@ void FastLineParser::Impl::set_label(std::optional<Label>& out, uint32_t p, uint
 
 // ------------------------------------------------------------------ line
 
-bool FastLineParser::Impl::run(const LineRef& line, Block& out, bool moves) {
+void FastLineParser::Impl::start(const LineRef& line) {
     s = line.text.data();
     n = static_cast<uint32_t>(line.text.size());
     base = line.start;
     sentinel = !line.terminator.empty() && line.terminator.data() == line.text.data() + line.text.size();
+}
+
+bool FastLineParser::Impl::run(const LineRef& line, Block& out, bool moves) {
+    start(line);
     b = &out;
     depth = 0;
     exprs_used = 0;
@@ -546,13 +550,14 @@ bool FastLineParser::Impl::simple_line() {
 // With kSentinel, the byte at the end of the text is the line's terminator
 // (LF or CR, in the same buffer): no class of the scans below includes
 // it, so they stop there without comparing with the end.
-template <bool kSentinel>
+template <bool kSentinel, bool kValues>
 bool FastLineParser::Impl::simple_line_in() {
     const char* q = s;
     const char* const e = s + n;
     while ((kSentinel || q < e) && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
     if (q == e) return false;
     if (*q == 'N' || *q == 'n') {
+        if constexpr (kValues) return false;  // a sequence name: the walk needs the block
         const char* t = q + 1;
         if (t == e || !(kClass[static_cast<unsigned char>(*t)] & kDigitClass)) return false;
         while ((kSentinel || t < e) && (kClass[static_cast<unsigned char>(*t)] & kDigitClass)) ++t;
@@ -577,6 +582,15 @@ bool FastLineParser::Impl::simple_line_in() {
         const uint32_t j = static_cast<uint32_t>(t - s);
         if (c == 'G') all_plain = all_plain && (v == 0 || v == 1 || v == 2 || v == 3) && sign != '-';
         else if (c != 'X' && c != 'Y' && c != 'Z' && c != 'F') all_plain = false;
+        if constexpr (kValues) {
+            if (!all_plain || values->count == PlainMove::kMaxWords) return false;
+            PlainMoveWord& w = values->words[values->count++];
+            w.address = c;
+            w.number = sign == '-' ? -v : v;
+            w.range = abs(p, j);
+            q = t;
+            continue;
+        }
         Word& w = new_word();
         set_char(w.address, c);
         w.range = abs(p, j);
@@ -603,6 +617,7 @@ bool FastLineParser::Impl::simple_line_in() {
         }
         q = t;
     }
+    if constexpr (kValues) return values->count > 0;
     plain = all_plain && words_used > 0;
     return true;
 }
@@ -690,6 +705,16 @@ bool FastLineParser::parse_moves(const LineRef& line, Block& out) {
 }
 
 bool FastLineParser::last_partial() const { return impl_->partial; }
+
+bool FastLineParser::plain_move(const LineRef& line, PlainMove& out) {
+    impl_->start(line);
+    impl_->values = &out;
+    out.count = 0;
+    const bool ok = impl_->sentinel ? impl_->simple_line_in<true, true>() : impl_->simple_line_in<false, true>();
+    impl_->values = nullptr;
+    if (ok) ++fast_lines_;
+    return ok;
+}
 
 bool FastLineParser::parse_outline(const LineRef& line, Block& out) {
     impl_->outline = true;

@@ -16,6 +16,7 @@
 // recovery does not depend on the lines around it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -31,6 +32,21 @@ namespace osplint {
 // Parses lines into Blocks. Keeps its scratch storage (and the storage of the
 // Block it fills) between calls, so that parsing a stream of ordinary blocks
 // does not allocate.
+// One word of a plain move: what apply_plain_move reads of it.
+struct PlainMoveWord {
+    char address = 0;   // X, Y, Z, F or G
+    double number = 0;  // with its sign
+    ByteRange range;    // the whole word
+};
+
+// The words of a plain move of the simplest shape, read without a block
+// (FastLineParser::plain_move).
+struct PlainMove {
+    static constexpr size_t kMaxWords = 8;
+    std::array<PlainMoveWord, kMaxWords> words;
+    size_t count = 0;
+};
+
 class FastLineParser {
 public:
     FastLineParser();
@@ -60,6 +76,13 @@ public:
     // so: parse the line again for the whole block. Any other line is whole.
     bool parse_moves(const LineRef& line, Block& out);
     bool last_partial() const;
+
+    // The words of `line` when it is a plain move of the simplest shape (one
+    // that parse_moves keeps in part) with no sequence name and at most
+    // PlainMove::kMaxWords words: what parse_moves keeps of each, read by the
+    // same scan, but into `out` instead of a block. False for any other line
+    // (the caller then parses it). For a sweep that needs only the values.
+    bool plain_move(const LineRef& line, PlainMove& out);
 
     // Whether the last line parsed is a plain move (analyzer.h:
     // is_plain_move_block) of the simplest shape: glued literal words only. A

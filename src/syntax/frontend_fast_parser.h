@@ -185,10 +185,13 @@ struct FastLineParser::Impl {
     // --- Whole lines ---------------------------------------------------------------
 
     bool run(const LineRef& line, Block& out, bool moves = false);
+    void start(const LineRef& line);
     void restart();
     bool simple_line();
-    template <bool kSentinel>
+    // With kValues, the words go to `values` (plain_move), not to the block.
+    template <bool kSentinel, bool kValues = false>
     bool simple_line_in();
+    PlainMove* values = nullptr;
     bool parse_line();
 };
 

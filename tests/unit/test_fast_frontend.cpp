@@ -338,7 +338,59 @@ std::string compare_moves(const std::string& name, const std::string& text, size
     return report;
 }
 
+// Reads `text` line by line with plain_move and compares with parse_moves:
+// plain_move reads a line exactly when parse_moves keeps it in part with no
+// sequence name and at most PlainMove::kMaxWords words, and then reads the
+// same addresses, numbers and ranges.
+std::string compare_plain_move(const std::string& name, const std::string& text, size_t* read = nullptr) {
+    FastLineParser moves, values;
+    Block b;
+    PlainMove m;
+    std::string report;
+    for_each_line(text, [&](const LineRef& line) {
+        moves.parse_moves(line, b);
+        const bool want = moves.last_partial() && !b.sequence && b.words.size() <= PlainMove::kMaxWords;
+        const bool got = values.plain_move(line, m);
+        std::string why;
+        if (got != want) {
+            why = got ? "read, not a plain move in part" : "not read";
+        } else if (got) {
+            if (read) ++*read;
+            bool same = m.count == b.words.size();
+            for (size_t i = 0; same && i < m.count; ++i)
+                same = b.words[i].address.size() == 1 && m.words[i].address == b.words[i].address[0] &&
+                       b.words[i].number && m.words[i].number == *b.words[i].number &&
+                       m.words[i].range == b.words[i].range;
+            if (!same) why = "differs";
+        }
+        if (!why.empty() && report.size() < 4000)
+            report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) + "': " + why +
+                      "\n  moves: " + moves_view(b) + "\n";
+    });
+    return report;
+}
+
 }  // namespace
+
+TEST_CASE("fast front end: plain_move reads the lines parse_moves keeps in part, the same words") {
+    size_t read = 0;
+    on_test_programs(20261202, [&](const std::string& name, const std::string& text) {
+        return compare_plain_move(name, text, name.rfind("mut", 0) == 0 ? nullptr : &read);
+    });
+    CHECK(read > 500);
+
+    FastLineParser p;
+    PlainMove m;
+    const auto line = [](const char* text) { return LineRef{text, "\n", 7, 100}; };
+    REQUIRE(p.plain_move(line(" G1 X-1.5 y+2. F300"), m));
+    REQUIRE(m.count == 4);
+    CHECK(m.words[2].address == 'Y');
+    CHECK(m.words[2].number == 2);
+    CHECK(m.words[2].range.begin == 110);
+    CHECK(m.words[2].range.end == 114);
+    for (const char* other : {"N12 X1", "G81 X1 Z-2 R1 F9", "G-1 X1", "X1 (C)", "", "X1 Y1 Z1 X1 Y1 Z1 X1 Y1 Z1"})
+        CHECK_MESSAGE(!p.plain_move(line(other), m), other);
+}
 
 TEST_CASE("fast front end: parse_moves keeps what the walk reads of a plain move, and every other line whole") {
     size_t partial = 0;
