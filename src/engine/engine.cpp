@@ -343,18 +343,15 @@ bool Walk::first_sweep(uint32_t index, uint32_t& extent, HeldLoop* held) {
             if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
         mark_loop(extent, index);
         if (!fetch(line)) break;
-        if (held && held->holding) {
-            parse(b, line, false);
-            loop_head(b, line.start, extent);
-            held->hold(b, line, options_.held_loop_blocks);
-            converged(line.start, index, false);
-            visit(b, line, Mode::Iterate);
-            continue;
-        }
         converged(line.start, index, false);
-        if (skim(line)) continue;
-        parse(b, line, plain_ok_);
+        // A loop whose lines are held keeps each block whole (its other
+        // sweeps visit them); one read again applies a plain move from its
+        // values alone.
+        const bool holding = held && held->holding;
+        if (!holding && skim(line)) continue;
+        parse(b, line, !holding && plain_ok_);
         loop_head(b, line.start, extent);
+        if (holding) held->hold(b, line, options_.held_loop_blocks);
         visit(b, line, Mode::Iterate);
     }
     return false;

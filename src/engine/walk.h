@@ -289,7 +289,6 @@ private:
     // In a sweep without the rules: a plain move applied from its values
     // alone, without a block; false for any other line (it is then parsed).
     bool skim(const LineRef& line);
-    PlainMove plain_move_;
     // The block `b` read last, parsed whole if it was read in part.
     void read_whole(const Block& b, const LineRef& line);
     // Whether a walk with the rules may read plain moves in part: not for an
@@ -366,6 +365,7 @@ private:
 
     LineStream main_;
     FastLineParser parser_;
+    PlainMove plain_move_;  // the line skim read last
     mutable Positions positions_;
     mutable std::string scratch_text_;
     std::string error_;
