@@ -308,6 +308,20 @@ bool FastLineParser::Impl::plain_call_args(uint32_t p) const {
     }
 }
 
+// The path parse_line takes through such a line (its first item is the
+// keyword, call_statement reads the name), with nothing emitted.
+bool FastLineParser::Impl::plain_call_line() const {
+    if (n == 0 || !is_letter(s[0])) return false;
+    const uint32_t e = alnum_end(0);
+    Name name;
+    if (!read_name(0, e, name)) return false;
+    const Keyword kw = control_keyword(name.text, name.len);
+    if (kw != Keyword::Call && kw != Keyword::Modin) return false;
+    const uint32_t q = skip_blanks(e);
+    if (q + 1 >= n || (s[q] != 'O' && s[q] != 'o') || !is_alnum(s[q + 1])) return false;
+    return plain_call_args(alnum_end(q + 1));
+}
+
 uint32_t FastLineParser::Impl::plain_arg_word(uint32_t p, const PlainArg& a) {
     Name name;
     read_name(p, a.name_end, name);  // a P name: no loop keyword to split
@@ -721,6 +735,11 @@ bool FastLineParser::parse_outline(const LineRef& line, Block& out) {
     const bool ok = parse(line, out);
     impl_->outline = false;
     return ok;
+}
+
+bool FastLineParser::plain_call(const LineRef& line) {
+    impl_->start(line);
+    return impl_->plain_call_line();
 }
 
 bool FastLineParser::parse(const LineRef& line, Block& out) {

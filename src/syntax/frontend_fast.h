@@ -68,6 +68,10 @@ public:
     // jump and no comment, so what the outline reads of the block
     // (syntax/outline.h) is the same as from parse.
     bool parse_outline(const LineRef& line, Block& out);
+    // Whether `line` is such a CALL or MODIN, alone on its line (no sequence
+    // name, block delete or comment): parse_outline would make of it its
+    // statement only, which the outline takes nothing from.
+    bool plain_call(const LineRef& line);
 
     // As parse, but a plain move of the simplest shape (last_plain) is filled
     // in part: its sequence name and, of each word, the address, the range and

@@ -141,7 +141,7 @@ public:
             const char* ls = scan.candidate;
             while (ls > buf_.data() + pos_ && !is_break(ls[-1])) --ls;
             pos_ = static_cast<size_t>(ls - buf_.data());
-            take_line();
+            if (!skip_plain_call()) take_line();
         }
         for (auto& p : out_.programs) {
             std::sort(p.references.begin(), p.references.end());
@@ -214,6 +214,23 @@ private:
         ++out_.lines_parsed;
         parser_.parse_outline(line, block_);
         take(block_, line);
+    }
+
+    // A CALL or MODIN with plain arguments only (the letter O of its name
+    // made it a candidate) gives the outline nothing: passed over unparsed.
+    // Only while no directive waits for its target (run takes every line then).
+    bool skip_plain_call() {
+        const char* p = buf_.data() + pos_;
+        const char* brk = find_line_break(p, buf_.data() + complete_);
+        if (!brk) return false;
+        const size_t text = static_cast<size_t>(brk - p);
+        const size_t term = (*brk == '\r' && brk + 1 < buf_.data() + end_ && brk[1] == '\n') ? 2 : 1;
+        const LineRef line{std::string_view(p, text), std::string_view(brk, term), line_,
+                           static_cast<uint32_t>(base_ + pos_)};
+        if (!parser_.plain_call(line)) return false;
+        pos_ += text + term;
+        ++line_;
+        return true;
     }
 
     void take(const Block& b, const LineRef& line) {

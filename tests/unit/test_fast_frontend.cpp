@@ -8,6 +8,7 @@
 // lines.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 #include <sstream>
 #include <string>
@@ -243,6 +244,19 @@ std::string compare_outline(const std::string& name, const std::string& text) {
         if (outline_view(a) != outline_view(b) && report.size() < 4000)
             report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) + "'\n  parse:   " +
                       outline_view(a) + "\n  outline: " + outline_view(b) + "\n";
+        // A line the outline passes over unparsed (plain_call) must be a CALL
+        // or MODIN statement and nothing else the outline reads.
+        if (outline.plain_call(line)) {
+            const bool only_call = a.kind == LineKind::Block && a.errors.empty() && !a.block_delete &&
+                                   !a.program_name && !a.sequence && a.comments.empty() &&
+                                   a.statements.size() == 1 &&
+                                   (a.statements[0].kind == StmtKind::Call || a.statements[0].kind == StmtKind::Modin) &&
+                                   std::none_of(a.words.begin(), a.words.end(),
+                                                [](const Word& w) { return w.address == "N"; });
+            if (!only_call && report.size() < 4000)
+                report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) +
+                          "' passed over, but parse: " + outline_view(a) + "\n";
+        }
     });
     return report;
 }
@@ -289,6 +303,21 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
     CHECK(outline_words("CALL O100 PX=1 (NOTE)") > 0);      // a comment (a directive may be in it)
     CHECK(b.comments.size() == 1);
     CHECK(outline_words("CALL O100 PX=1234567890123456") > 0);  // more digits than the outline skips
+    // The lines the outline passes over without parsing them, and those it parses.
+    auto plain_call = [&](const std::string& text) { return p.plain_call(LineRef{text, "\n", 1, 0}); };
+    CHECK(plain_call("CALL OZAGR PX=12.5 PY=-3 PZ = +.5 PFA=1000"));
+    CHECK(plain_call("call ozagr px=1 py=2"));
+    CHECK(plain_call("MODIN OG87N PR=-45. PZ=-60."));
+    CHECK(plain_call("CALL O100"));
+    CHECK_FALSE(plain_call("N10 CALL O100 PX=1"));      // a sequence name
+    CHECK_FALSE(plain_call("/CALL O100 PX=1"));         // block delete
+    CHECK_FALSE(plain_call("CALL O100 PX=1 N10"));      // an N word: a reference
+    CHECK_FALSE(plain_call("CALL O100 PX=1 (NOTE)"));   // a comment
+    CHECK_FALSE(plain_call("CALL O100 PX=VC1"));        // an expression
+    CHECK_FALSE(plain_call("CALLO100 PX=1"));           // one name, no keyword
+    CHECK_FALSE(plain_call("CALL 100 PX=1"));           // no program name
+    CHECK_FALSE(plain_call("MODOUT"));
+    CHECK_FALSE(plain_call("GOTO N10"));
 }
 
 namespace {
