@@ -1,5 +1,6 @@
 // OSP202 reserved-common-variable: VC120-VC128 used by a program that calls the
 // macros which use them internally.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,7 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override {
         uses_.clear();
         calls_.clear();
+        specs_.clear();
         names_.clear();
         distinct_ = 0;
     }
@@ -57,9 +59,6 @@ public:
         if (const MacroCall* c = v.call; c && c->summary && !c->summary->clobbers_reserved.empty())
             if (const MacroSpec* spec = ctx.catalog().find(c->summary->clobbers_reserved))
                 add_call({spec, c->name_range, b.line, c->summary->name});
-        std::vector<bool> is_target(b.exprs.size(), false);
-        for (const auto& a : b.assignments)
-            if (a.target >= 0 && static_cast<size_t>(a.target) < is_target.size()) is_target[a.target] = true;
         for (size_t i = 0; i < b.exprs.size(); ++i) {
             const ExprNode& n = b.exprs[i];
             if (n.kind != ExprKind::Variable) continue;
@@ -67,7 +66,10 @@ public:
             if (!key) continue;
             auto num = common_variable_number(*key);
             if (!num || *num < 120 || *num > 128) continue;
-            uses_.push_back({n.range, *num, is_target[i]});
+            const bool written = std::any_of(b.assignments.begin(), b.assignments.end(), [&](const auto& a) {
+                return a.target >= 0 && static_cast<size_t>(a.target) == i;
+            });
+            uses_.push_back({n.range, *num, written});
         }
     }
 
@@ -94,7 +96,8 @@ public:
     }
 
     bool same_as(const ReservedCommonVariable& o) const {
-        return uses_ == o.uses_ && calls_ == o.calls_ && names_ == o.names_ && distinct_ == o.distinct_;
+        return uses_ == o.uses_ && calls_ == o.calls_ && specs_ == o.specs_ && names_ == o.names_ &&
+               distinct_ == o.distinct_;
     }
     template <class Move>
     bool each_range(Move&& move) {
@@ -110,12 +113,15 @@ private:
     // called: bounded by the catalog, not by the number of calls.
     static constexpr size_t kShownCalls = 3;
     void add_call(Clobber c) {
-        if (names_.find(c.spec->name) == std::string::npos) {
+        // By the whole name: one may be the start of another (OZAG, OZAGR).
+        if (std::find(specs_.begin(), specs_.end(), c.spec) == specs_.end()) {
+            specs_.push_back(c.spec);
             names_ += (names_.empty() ? "" : ", ") + c.spec->name;
             ++distinct_;
         }
-        if (calls_.size() < kShownCalls) calls_.push_back(c);
+        if (calls_.size() < kShownCalls) calls_.push_back(std::move(c));
     }
+    std::vector<const MacroSpec*> specs_;  // those named in names_
     std::vector<Use> uses_;
     std::vector<Clobber> calls_;
     std::string names_;
