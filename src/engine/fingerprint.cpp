@@ -1,6 +1,9 @@
 #include "engine/fingerprint.h"
 
+#include <algorithm>
+#include <bit>
 #include <cctype>
+#include <cstdint>
 
 #include <fmt/format.h>
 
@@ -18,6 +21,15 @@ struct Fnv {
         h *= 1099511628211ull;
     }
 };
+
+inline size_t slot_of(uint64_t key, size_t mask) { return static_cast<size_t>(key * 0x9E3779B97F4A7C15ull) & mask; }
+// The counter of `key` in sketch row `row`: the high bits of a product with an odd constant of the row.
+inline size_t sketch_index(uint64_t key, size_t row) {
+    static constexpr uint64_t kMul[OccurrenceCounter::kSketchRows] = {
+        0xD6E8FEB86659FD93ull, 0xA0761D6478BD642Full, 0xE7037ED1A0B428DBull, 0x8EBC6AF09C88C6E3ull};
+    constexpr unsigned kBits = std::countr_zero(OccurrenceCounter::kSketchWidth);
+    return row * OccurrenceCounter::kSketchWidth + static_cast<size_t>((key * kMul[row]) >> (64 - kBits));
+}
 
 }  // namespace
 
@@ -68,7 +80,7 @@ bool OccurrenceCounter::insert(uint64_t key) {
             if (k) insert(k);
     }
     const size_t mask = slots_.size() - 1;
-    for (size_t i = static_cast<size_t>(key * 0x9E3779B97F4A7C15ull) & mask;; i = (i + 1) & mask) {
+    for (size_t i = slot_of(key, mask);; i = (i + 1) & mask) {
         if (slots_[i] == key) return false;
         if (slots_[i] == 0) {
             slots_[i] = key;
@@ -78,21 +90,56 @@ bool OccurrenceCounter::insert(uint64_t key) {
     }
 }
 
+
+bool OccurrenceCounter::contains(uint64_t key) const {
+    if (key == 0) key = 1;
+    if (slots_.empty()) return false;
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = slot_of(key, mask);; i = (i + 1) & mask) {
+        if (slots_[i] == key) return true;
+        if (slots_[i] == 0) return false;
+    }
+}
+
+void OccurrenceCounter::to_sketch() {
+    sketch_.assign(kSketchRows * kSketchWidth, 0);
+    for (uint64_t k : slots_) {
+        if (!k) continue;
+        const auto it = repeats_.find(k);
+        const uint32_t n = it == repeats_.end() ? 1 : static_cast<uint32_t>(it->second);
+        for (size_t r = 0; r < kSketchRows; ++r) sketch_[sketch_index(k, r)] += n;
+    }
+    std::vector<uint64_t>().swap(slots_);
+    used_ = 0;
+    std::unordered_map<uint64_t, int>().swap(repeats_);
+}
+
+int OccurrenceCounter::sketch_next(uint64_t key) {
+    if (key == 0) key = 1;  // as in the table
+    uint32_t least = UINT32_MAX;
+    for (size_t r = 0; r < kSketchRows; ++r) least = std::min(least, ++sketch_[sketch_index(key, r)]);
+    return static_cast<int>(std::min<uint32_t>(least, INT32_MAX));
+}
+
+size_t OccurrenceCounter::bytes() const {
+    return slots_.capacity() * sizeof(uint64_t) + sketch_.capacity() * sizeof(uint32_t) +
+           repeats_.size() * (sizeof(uint64_t) + sizeof(int) + 2 * sizeof(void*)) +
+           repeats_.bucket_count() * sizeof(void*);
+}
+
 bool OccurrenceCounter::same_counts(const OccurrenceCounter& o) const {
+    if (sketched() != o.sketched()) return false;
+    if (sketched()) return sketch_ == o.sketch_;
     if (used_ != o.used_ || repeats_ != o.repeats_) return false;
     if (used_ == 0) return true;
-    const size_t mask = o.slots_.size() - 1;
-    for (uint64_t key : slots_) {
-        if (!key) continue;
-        for (size_t i = static_cast<size_t>(key * 0x9E3779B97F4A7C15ull) & mask;; i = (i + 1) & mask) {
-            if (o.slots_[i] == key) break;
-            if (o.slots_[i] == 0) return false;
-        }
-    }
+    for (uint64_t key : slots_)
+        if (key && !o.contains(key)) return false;
     return true;
 }
 
 int OccurrenceCounter::next(uint64_t key) {
+    if (!sketched() && used_ >= exact_keys_ && !contains(key)) to_sketch();
+    if (sketched()) return sketch_next(key);
     if (insert(key)) return 1;
     int& n = repeats_[key];
     if (n == 0) n = 1;

@@ -30,10 +30,22 @@ std::string make_fingerprint(uint64_t key, int occurrence);
 
 // Counts the occurrences of (rule, program, block text) in one file. Keeps a
 // 64-bit hash of each distinct combination in an open-addressing table (8 to
-// 16 bytes each: 16 MB for a million findings on distinct blocks), and a count
-// only for the combinations seen more than once.
+// 16 bytes each), and a count only for the combinations seen more than once.
+// Past `exact_keys` distinct combinations (kExactKeys: about a million, 16 MB
+// of table), it counts in a sketch of fixed size instead (kSketchRows rows of
+// kSketchWidth counters, 8 MB; the table is freed), so that memory stops
+// growing with the findings: each combination's occurrence is then the least
+// of its counters. It stays unique (every occurrence of a combination raises
+// all its counters, so their least) and the same for the same file, but a
+// combination that shares its counters with others starts above 1, and a
+// finding added or removed before it may change it.
 class OccurrenceCounter {
 public:
+    static constexpr size_t kExactKeys = size_t(1) << 20;
+    static constexpr size_t kSketchRows = 4;
+    static constexpr size_t kSketchWidth = size_t(1) << 19;
+    explicit OccurrenceCounter(size_t exact_keys = kExactKeys) : exact_keys_(exact_keys) {}
+
     // The 1-based occurrence of this combination, counting this one.
     int next(std::string_view rule, std::string_view program, std::string_view block_text);
     // The same by fingerprint_key.
@@ -44,13 +56,22 @@ public:
         slots_.clear();
         used_ = 0;
         repeats_.clear();
+        sketch_.clear();
     }
+    // Whether it counts in the sketch, and the bytes its tables hold.
+    bool sketched() const { return !sketch_.empty(); }
+    size_t bytes() const;
 
 private:
     bool insert(uint64_t key);  // false when the key was there already
+    bool contains(uint64_t key) const;
+    void to_sketch();
+    int sketch_next(uint64_t key);
+    size_t exact_keys_;
     std::vector<uint64_t> slots_;  // 0: empty
     size_t used_ = 0;
     std::unordered_map<uint64_t, int> repeats_;
+    std::vector<uint32_t> sketch_;  // empty: counting exactly
 };
 
 }  // namespace osplint

@@ -3,9 +3,12 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <string>
 
 #include "output/baseline.h"
+#include "engine/fingerprint.h"
 #include "engine/suppress.h"
 #include "api/check.h"
 #include "api/config.h"
@@ -307,4 +310,56 @@ TEST_CASE("a directive may name the rule by its name, and a mistyped one gets a 
     auto unknown = of_rule(r, "OSP901");
     REQUIRE(unknown.size() == 1);
     CHECK(unknown[0]->message.find("did you mean 'm52-on-call-line'?") != std::string::npos);
+}
+
+TEST_CASE("occurrences: exact up to the limit, then a sketch of fixed size that keeps them unique") {
+    // Below the limit: 1, 2, 3 ... for each combination, exactly.
+    OccurrenceCounter exact;
+    CHECK(exact.next("OSP104", "O1", "G0X1") == 1);
+    CHECK(exact.next("OSP104", "O1", "G0X1") == 2);
+    CHECK(exact.next("OSP104", "O1", "G0X2") == 1);
+    CHECK(exact.next("OSP301", "O1", "G0X1") == 1);
+    CHECK(exact.next("OSP104", "O1", "G0X1") == 3);
+    CHECK_FALSE(exact.sketched());
+
+    // Past the limit (64 here): every key, new or seen, is counted in the
+    // sketch; a key's occurrences still rise one by one.
+    auto feed = [](OccurrenceCounter& c, uint64_t keys, std::vector<std::pair<uint64_t, int>>& out) {
+        for (uint64_t k = 1; k <= keys; ++k)
+            for (uint64_t again = 0; again < 1 + k % 3; ++again) out.push_back({k, c.next(k * 0x100000001B3ull)});
+    };
+    OccurrenceCounter a(64), b(64);
+    std::vector<std::pair<uint64_t, int>> ra, rb;
+    feed(a, 50, ra);
+    CHECK_FALSE(a.sketched());
+    for (const auto& [k, n] : ra) CHECK(n >= 1);
+    feed(a, 200000, ra);
+    CHECK(a.sketched());
+    feed(b, 50, rb);
+    feed(b, 200000, rb);
+    CHECK(ra == rb);  // the same for the same findings
+    CHECK(a.same_counts(b));
+    // The memory stops growing: the same after twice as many keys, those
+    // counted exactly before the sketch among them.
+    const size_t at = a.bytes();
+    CHECK(at <= OccurrenceCounter::kSketchRows * OccurrenceCounter::kSketchWidth * 4 + 4096);
+    feed(a, 400000, ra);
+    CHECK(a.bytes() == at);
+    CHECK_FALSE(a.same_counts(b));
+    // Unique: no (key, occurrence) twice, and each key's occurrences rise.
+    std::map<uint64_t, int> last;
+    std::set<std::pair<uint64_t, int>> seen;
+    bool unique = true, rising = true;
+    for (const auto& [k, n] : ra) {
+        unique = unique && seen.insert({k, n}).second;
+        rising = rising && n > last[k];
+        last[k] = n;
+    }
+    CHECK(unique);
+    CHECK(rising);
+    // Cleared, it counts exactly again.
+    a.clear();
+    CHECK_FALSE(a.sketched());
+    CHECK(a.next(7) == 1);
+    CHECK(a.next(7) == 2);
 }
