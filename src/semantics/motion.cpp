@@ -37,8 +37,16 @@ bool has_code(const Block& b, char address, int code) {
 // G codes whose axis words are not a move of the tool tip (the same list the
 // transfer function uses, plus the coordinate-system selections).
 bool non_motion_block(const Block& b) {
-    for (int c : {4, 10, 11, 15, 16, 20, 22, 23, 30, 50, 71, 92})
-        if (has_code(b, 'G', c)) return true;
+    for (const auto& w : b.words) {
+        if (w.address.size() != 1 || w.address[0] != 'G') continue;
+        const auto c = code_of(w);
+        if (!c) continue;
+        switch (*c) {
+            case 4: case 10: case 11: case 15: case 16: case 20: case 22: case 23: case 30: case 50: case 71: case 92:
+                return true;
+            default: break;
+        }
+    }
     return false;
 }
 

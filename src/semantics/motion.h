@@ -166,7 +166,7 @@ struct TravelViolation {
 std::vector<TravelViolation> travel_violations(const Envelope& env, const Config& config);
 
 // A plain positioning block (no macro, no hole): the axes it moves to outside
-// the configured travel.
+// the configured travel (`what` left empty: `axis` and `value` say it).
 std::vector<TravelViolation> positioning_violations(const Block& block, const ModalState& before,
                                                     const ModalState& after, const MacroCall* call,
                                                     const Config& config);
