@@ -61,6 +61,30 @@ void merge_cycle(Val<std::optional<ActiveCycle>>& a, const Val<std::optional<Act
         if (!c.words.count(k)) c.words_known = false;
 }
 
+// A MODIN open on both sides, opened by the same block: it stays known as
+// open, with the argument values both sides agree on (a loop's passes
+// evaluate `PZ=VC1+1` each to its own value; the call is open on all of them).
+void merge_modin(Val<std::optional<ActiveModin>>& a, const Val<std::optional<ActiveModin>>& b) {
+    if (!a.known) return;
+    if (!b.known) {
+        a = {};
+        return;
+    }
+    if (a.value == b.value) return;
+    if (!a.value || !b.value || a.value->macro != b.value->macro || a.value->line != b.value->line ||
+        a.value->via != b.value->via || a.value->given != b.value->given) {
+        a = {};
+        return;
+    }
+    std::map<std::string, double>& mine = a.value->values;
+    const std::map<std::string, double>& theirs = b.value->values;
+    for (auto it = mine.begin(); it != mine.end();) {
+        const auto jt = theirs.find(it->first);
+        if (jt == theirs.end() || !(jt->second == it->second)) it = mine.erase(it);
+        else ++it;
+    }
+}
+
 }  // namespace
 
 bool Origin::before(const Origin& o) const {
@@ -118,7 +142,7 @@ void ModalState::merge(const ModalState& o) {
     merge_cycle(cycle, o.cycle);
     uncancelled.merge(o.uncancelled);
     cycle_return.merge(o.cycle_return);
-    modin.merge(o.modin);
+    merge_modin(modin, o.modin);
     spindle.merge(o.spindle);
     spindle_stopped_by.merge(o.spindle_stopped_by);
     spindle_speed.merge(o.spindle_speed);

@@ -203,7 +203,9 @@ struct ModalState {
 
     // Fields that differ become unknown. The fixed-cycle slot merges field by
     // field when both sides have the same cycle (same code and macro), so that
-    // "a G81 is modal" stays known when the paths disagree only on its R or Z.
+    // "a G81 is modal" stays known when the paths disagree only on its R or Z;
+    // so does a MODIN opened by the same block, keeping the argument values
+    // both sides agree on.
     void merge(const ModalState& o);
     // The merge of a state that flows along a jump: the GOTO, IF, WHILE or
     // END of the block at `line` (`range`: its flow statements). The origins

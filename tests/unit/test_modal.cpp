@@ -240,6 +240,40 @@ TEST_CASE("merged state at a WHILE/DO/END loop head") {
     }
 }
 
+TEST_CASE("merged state: a MODIN opened by the same block on every path stays open") {
+    // Each pass evaluates PZ=VC1+1 to its own value: the MODIN is open on
+    // every path, with the arguments the paths agree on.
+    const std::string program =
+        "O1000\n"                                          // 1
+        "VC1=0\n"                                          // 2
+        "N10 MODIN OG87N PR=5 PZ=-25 PL=4 PI=2 PJ=6 PF=100\n"  // 3
+        "VC1=VC1+1\n"                                      // 4
+        "IF [VC1 LT 2] N10\n"                              // 5
+        "MODIN OG87N PR=5 PZ=VC1+1\n"                      // 6
+        "IF [VC1 LT 2] N10\n";                             // 7
+    auto r = run(program, {"OSP203"});
+    const ModalState& end = r.at(7).after;
+    REQUIRE(end.modin.known);
+    REQUIRE(end.modin.value);
+    CHECK(end.modin.value->line == 6);
+    CHECK(end.modin.value->values.count("PR") == 1);  // 5 on every pass
+    CHECK(end.modin.value->values.count("PZ") == 0);  // VC1+1: not the same on every pass
+    // Open at the end on every path: a definite finding, not a "may".
+    const FileResult f = check_text("T.MIN", program, Config{});
+    bool never_closed = false;
+    for (const auto& d : f.diagnostics)
+        never_closed = never_closed || (d.rule == "OSP203" && d.message.find("OG87N is never closed") != std::string::npos);
+    CHECK(never_closed);
+    // Opened by different blocks on the two paths: unknown.
+    ModalState a, b;
+    ActiveModin m{"OG87N", 3, {{"PR", 5.0}}, {"PR"}, ""};
+    a.modin = Val<std::optional<ActiveModin>>::of(m);
+    m.line = 6;
+    b.modin = Val<std::optional<ActiveModin>>::of(m);
+    a.merge(b);
+    CHECK_FALSE(a.modin.known);
+}
+
 TEST_CASE("merged state at the target of a backward IF jump") {
     auto program = [](const char* mode) {
         return std::string("O1000\n"                          // 1
