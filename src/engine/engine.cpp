@@ -544,9 +544,10 @@ void Walk::leave(const Block& b, const LineRef& line) {
     reachable_ = falls;
 }
 
-std::optional<MacroCall> Walk::resolve(const Block& b, const ModalState& before) const {
-    std::optional<MacroCall> call = resolve_call(b, before, config_.catalog, &arg_links_);
-    if (call && options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty()) {
+const MacroCall* Walk::resolve(const Block& b, const ModalState& before) const {
+    if (!resolve_call(b, before, config_.catalog, &arg_links_, call_)) return nullptr;
+    MacroCall* call = &call_;
+    if ( options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty()) {
         // Asked once per name and file: a posted program calls the same few names again and again.
         auto [it, added] = summary_of_.try_emplace(call->name, nullptr);
         if (added) {
@@ -582,10 +583,10 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     if (!reachable_) {
         if (!rules) return;
         read_whole(b, line);
-        const std::optional<MacroCall> call = resolve(b, unknown_);
+        const MacroCall* call = resolve(b, unknown_);
         ModalState after = unknown_;
-        apply_block(b, call ? &*call : nullptr, config_.catalog, after);
-        check(BlockView{b, unknown_, after, call ? &*call : nullptr, false}, line, false);
+        apply_block(b, call, config_.catalog, after);
+        check(BlockView{b, unknown_, after, call, false}, line, false);
         near_ = false;
         return;
     }
@@ -602,11 +603,11 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     // A block read in part that is more than a plain move here (in a fixed
     // cycle, under MODIN) is parsed whole; a block read whole stays as it is.
     read_whole(b, line);
-    const std::optional<MacroCall> call = resolve(b, *A_);
+    const MacroCall* call = resolve(b, *A_);
     *B_ = *A_;
-    apply_block(b, call ? &*call : nullptr, config_.catalog, *B_);
+    apply_block(b, call, config_.catalog, *B_);
     near_ = false;
-    if (rules) check(BlockView{b, *A_, *B_, call ? &*call : nullptr, true}, line, false);
+    if (rules) check(BlockView{b, *A_, *B_, call, true}, line, false);
     leave(b, line);
 }
 

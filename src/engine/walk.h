@@ -324,7 +324,8 @@ private:
     bool sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mode);
     void visit(const Block& b, const LineRef& line, Mode mode);
     // resolve_call, with the summary of a user subprogram the CALL reaches.
-    std::optional<MacroCall> resolve(const Block& b, const ModalState& before) const;
+    // The macro the block runs (nullptr: none), in call_, valid until the next block.
+    const MacroCall* resolve(const Block& b, const ModalState& before) const;
     void enter(const Block& b, uint32_t offset);
     void leave(const Block& b, const LineRef& line);
     // The state after the block at `offset` (its jump: `line`, `range`) flows to a sequence name or an offset.
@@ -358,6 +359,7 @@ private:
     // The summaries of the subprograms (of this file or beside it) its CALLs reached, by name.
     mutable std::map<std::string, const SubprogramSummary*, std::less<>> summary_of_;
     mutable ArgLinks arg_links_;  // the last call's argument links (link_arg_specs)
+    mutable MacroCall call_;      // the block's call (resolve), its storage kept from block to block
     const SubprogramSummary* local_summary(const std::string& name) const;  // of a program of this file
     mutable std::vector<std::pair<std::string, const SubprogramSummary*>> local_used_;  // FrozenWalk::local_used
     bool fingerprints_ = false;

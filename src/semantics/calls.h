@@ -63,6 +63,8 @@ struct MacroCall {
     // The argument given for `a` (an argument of any spec): by its name, else
     // by its aliases in order; nullptr when not given.
     const MacroArg* given(const ArgSpec& a) const;
+    // Back to a call of nothing, keeping the storage for the next one.
+    void clear();
 };
 
 // What link_arg_specs found for the argument names of the last call it

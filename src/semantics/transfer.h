@@ -26,6 +26,10 @@ void apply_block(const Block& block, const MacroCall* call, const Catalog& catal
 // (`links`: see link_arg_specs).
 std::optional<MacroCall> resolve_call(const Block& block, const ModalState& before, const Catalog& catalog,
                                       ArgLinks* links = nullptr);
+// The same into `call` (whose storage is kept from call to call); false when
+// the block invokes nothing.
+bool resolve_call(const Block& block, const ModalState& before, const Catalog& catalog, ArgLinks* links,
+                  MacroCall& call);
 
 // The state that flows from a block to its successors: `after` (apply_block's
 // result), merged with `before` when the block may be skipped (BLOCK SKIP on

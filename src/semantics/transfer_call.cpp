@@ -56,8 +56,7 @@ bool non_motion_axes(const std::vector<int>& g) {
 }
 
 // A CALL or MODIN statement: the words after the keyword are its arguments.
-MacroCall statement_call(const Block& b, const Statement& st, const Catalog& catalog) {
-    MacroCall call;
+void statement_call(const Block& b, const Statement& st, const Catalog& catalog, MacroCall& call) {
     call.kind = st.kind == StmtKind::Call ? CallKind::Call : CallKind::Modin;
     call.name = st.name;
     call.name_range = st.name_range;
@@ -74,13 +73,11 @@ MacroCall statement_call(const Block& b, const Statement& st, const Catalog& cat
             a.word = &w;
         }
     }
-    return call;
 }
 
 // A registered G- or M-code macro (the first code of the block that is one);
 // kind None when there is none.
-MacroCall code_call(const Block& b, const Catalog& catalog) {
-    MacroCall call;
+void code_call(const Block& b, const Catalog& catalog, MacroCall& call) {
     for (const auto& w : b.words) {
         if (w.address != "G" && w.address != "M") continue;
         auto c = code_of(w);
@@ -105,18 +102,16 @@ MacroCall code_call(const Block& b, const Catalog& catalog) {
         }
         break;
     }
-    return call;
 }
 
 // A positioning block while a MODIN is open runs the modal macro, with the
 // arguments of the MODIN line.
-std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState& before, const Catalog& catalog) {
-    if (!before.modin.known || !before.modin.value) return std::nullopt;
-    if (b.statement(StmtKind::Modout) || b.statement(StmtKind::Modin)) return std::nullopt;
-    if (non_motion_axes(codes(b, 'G'))) return std::nullopt;
-    if (!has_axis_word(b) && !has_coord_calc(b)) return std::nullopt;
+bool modin_positioning_call(const Block& b, const ModalState& before, const Catalog& catalog, MacroCall& call) {
+    if (!before.modin.known || !before.modin.value) return false;
+    if (b.statement(StmtKind::Modout) || b.statement(StmtKind::Modin)) return false;
+    if (non_motion_axes(codes(b, 'G'))) return false;
+    if (!has_axis_word(b) && !has_coord_calc(b)) return false;
     const ActiveModin& m = *before.modin.value;
-    MacroCall call;
     call.kind = CallKind::ModinPositioning;
     call.name = m.macro;
     call.spec = catalog.find(m.macro);
@@ -129,7 +124,7 @@ std::optional<MacroCall> modin_positioning_call(const Block& b, const ModalState
             if (same_name(a.name, name)) a.value = Val<double>::of(value);
     for (const auto& w : b.words)
         if (w.address == "M") call.m_codes.push_back(&w);
-    return call;
+    return true;
 }
 
 }  // namespace
@@ -197,21 +192,44 @@ const MacroArg* MacroCall::given(const ArgSpec& a) const {
     return given_by_name(*this, a);
 }
 
-std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog,
-                                      ArgLinks* links) {
-    if (b.kind != LineKind::Block) return std::nullopt;
+void MacroCall::clear() {
+    kind = CallKind::None;
+    name.clear();
+    name_range = {};
+    spec = nullptr;
+    defined_in_files = false;
+    summary = nullptr;
+    args.clear();
+    repeat = nullptr;
+    m_codes.clear();
+    modin_line = 0;
+    given_index.clear();
+}
+
+bool resolve_call(const Block& b, const ModalState& before, const Catalog& catalog, ArgLinks* links,
+                  MacroCall& call) {
+    call.clear();
+    if (b.kind != LineKind::Block) return false;
     const Statement* st = b.statement(StmtKind::Call);
     if (!st) st = b.statement(StmtKind::Modin);
-    MacroCall call = st ? statement_call(b, *st, catalog) : code_call(b, catalog);
+    if (st) statement_call(b, *st, catalog, call);
+    else code_call(b, catalog, call);
     if (call.kind == CallKind::None) {
-        std::optional<MacroCall> positioning = modin_positioning_call(b, before, catalog);
-        if (positioning) link_arg_specs(*positioning, links);
-        return positioning;
+        if (!modin_positioning_call(b, before, catalog, call)) return false;
+        link_arg_specs(call, links);
+        return true;
     }
     link_arg_specs(call, links);
     for (auto& a : call.args)
         if (a.word)
             if (auto v = word_value(b, *a.word, before)) a.value = Val<double>::of(*v);
+    return true;
+}
+
+std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog,
+                                      ArgLinks* links) {
+    MacroCall call;
+    if (!resolve_call(b, before, catalog, links, call)) return std::nullopt;
     return call;
 }
 
