@@ -547,7 +547,7 @@ void Walk::leave(const Block& b, const LineRef& line) {
 const MacroCall* Walk::resolve(const Block& b, const ModalState& before) const {
     if (!resolve_call(b, before, config_.catalog, &arg_links_, call_)) return nullptr;
     MacroCall* call = &call_;
-    if ( options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty()) {
+    if (options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty()) {
         // Asked once per name and file: a posted program calls the same few names again and again.
         auto [it, added] = summary_of_.try_emplace(call->name, nullptr);
         if (added) {
