@@ -63,7 +63,9 @@ struct MacroCall {
     // The argument given for `a` (an argument of any spec): by its name, else
     // by its aliases in order; nullptr when not given.
     const MacroArg* given(const ArgSpec& a) const;
-    // Back to a call of nothing, keeping the storage for the next one.
+    // Back to a call of nothing, keeping the storage for the next one (the
+    // walk reuses one call for every block): a member added above must be
+    // reset there too.
     void clear();
 };
 
