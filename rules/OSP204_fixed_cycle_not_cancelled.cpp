@@ -62,7 +62,7 @@ public:
             report_may_uncancelled(ctx, p);
             return;
         }
-        ByteRange where = c->start_range;
+        ByteRange where = c->start_range.empty() ? c->command_range : c->start_range;
         if (where.empty()) {
             if (!end_block_) return;
             where = *end_block_;

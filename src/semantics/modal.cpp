@@ -41,6 +41,7 @@ void merge_cycle(Val<std::optional<ActiveCycle>>& a, const Val<std::optional<Act
     const ActiveCycle& d = *b.value;
     if (c.start_line != d.start_line) c.start_line = 0;
     if (!(c.start_range == d.start_range)) c.start_range = {};
+    if (!(c.command_range == d.command_range)) c.command_range = {};
     c.r.merge(d.r);
     c.z.merge(d.z);
     c.initial.merge(d.initial);

@@ -108,8 +108,14 @@ struct ActiveCycle {
     int code = 0;                  // 81, 84, 114, ...
     std::string macro;             // "OG84L" when the cycle is a G-code macro, else empty
     uint32_t start_line = 0;       // block that started it (0: differs between paths, or a subprogram did)
-    ByteRange start_range;         // the G word that started it (empty: differs between paths; the
-                                   // called name when a subprogram started it and left it modal)
+    ByteRange start_range;         // the G word that started it (empty: differs between paths, or not
+                                   // known; the called name when a subprogram started it and left it modal)
+    // The G word that commanded it last (a start, or the same code again; the
+    // called name as above). Every path that reaches a commanding block agrees
+    // on it there, so it is known where the start is not: a cycle commanded
+    // while the paths disagree on the modal cycle (a subprogram's entry, a
+    // join of loops) may start there or carry on from an earlier block.
+    ByteRange command_range;
     Val<double> r, z;              // R and Z as commanded (meaning depends on G90/G91)
     Val<double> initial;           // cycle-axis position when the cycle was commanded
     // The other addresses commanded since the cycle started (Q, K, J, P, I, L,
@@ -262,6 +268,18 @@ std::string describe_state(const ModalState& s);  // one line for `osplint trace
 // is modal or when it is not known whether one is.
 inline const ActiveCycle* active_cycle(const ModalState& s) {
     return s.cycle.known && s.cycle.value ? &*s.cycle.value : nullptr;
+}
+// Whether block `b` starts the cycle `c` modal after it: Here; Earlier (it
+// carries on a cycle started before it, or does not command one); or
+// Unknown: it commands the cycle while the paths that reach it disagree on
+// which cycle is modal (a subprogram's first cycle, a loop head), so it
+// starts one on some paths and carries one on on others.
+enum class CycleStart : uint8_t { Here, Earlier, Unknown };
+inline CycleStart cycle_start(const ActiveCycle& c, const Block& b) {
+    if (c.start_line) return c.start_line == b.line ? CycleStart::Here : CycleStart::Earlier;
+    const bool commanded_here = c.via.empty() && !c.command_range.empty() &&
+                                b.range.begin <= c.command_range.begin && c.command_range.end <= b.range.end;
+    return commanded_here ? CycleStart::Unknown : CycleStart::Earlier;
 }
 // Known: no fixed cycle is modal.
 inline bool no_cycle(const ModalState& s) { return s.cycle.known && !s.cycle.value; }

@@ -108,6 +108,7 @@ void apply_summary(const SubprogramSummary& summary, uint32_t line, ByteRange ra
         ActiveCycle c = *summary.cycle.value;
         c.start_line = 0;  // no block of this program commands it: rules that read the starting block skip it
         c.start_range = range;
+        c.command_range = range;
         c.initial = Val<double>{};
         c.via = summary.name;
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::move(c));

@@ -457,6 +457,13 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
     const char cyc_axis = s.plane.known ? plane_axes(s.plane.value).cycle : 0;
     if (cw.code) {
         ActiveCycle c;
+        // Whether the block carries on the cycle already modal: known unless
+        // the paths that reach it disagree on the modal cycle. Then the block
+        // may start a cycle or carry one on, and what the two have in common
+        // is kept: the code and what the block itself commands. Taking it as
+        // a start would claim, on the paths where the cycle carries on, a
+        // start and an initial point that they do not have.
+        const bool carry_known = f.g80 || before.cycle.known;
         const bool same = !f.g80 && before.cycle.known && before.cycle.value &&
                           before.cycle.value->code == cw.code && before.cycle.value->macro == cycle_macro;
         if (same) {
@@ -464,13 +471,27 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
         } else {
             c.code = cw.code;
             c.macro = cycle_macro;
-            c.start_line = b.line;
-            c.start_range = cw.range;
-            if (cyc_axis) c.initial = before.axis(cyc_axis);
+            if (carry_known) {
+                c.start_line = b.line;
+                c.start_range = cw.range;
+                if (cyc_axis) c.initial = before.axis(cyc_axis);
+            } else {
+                c.words_known = false;  // an earlier block may have given the others
+            }
         }
-        if (!same || !s.cycle_from.find()) s.cycle_from.set(true, b.line, cw.range);
+        c.command_range = cw.range;
+        if (carry_known) {
+            if (!same || !s.cycle_from.find()) s.cycle_from.set(true, b.line, cw.range);
+        } else {
+            ModeOrigin<bool, true> here;  // a start here, or the earlier one carried on
+            here.set(true, b.line, cw.range);
+            s.cycle_from.merge(here);
+        }
         update_cycle(c, b, before, cyc_axis);
-        s.uncancelled = Val<std::optional<OpenCycle>>::of(OpenCycle{c.code, c.macro, c.start_range, c.via});
+        if (carry_known)
+            s.uncancelled = Val<std::optional<OpenCycle>>::of(OpenCycle{c.code, c.macro, c.start_range, c.via});
+        else
+            s.uncancelled = Val<std::optional<OpenCycle>>{};  // started where is not known
         s.cycle = Val<std::optional<ActiveCycle>>::of(std::move(c));
     } else if (s.cycle.known && s.cycle.value && !f.g80) {
         if (f.interpolation) {
