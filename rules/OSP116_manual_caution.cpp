@@ -71,7 +71,8 @@ struct Site {
                     if (const Word* w = word(*a)) return w->range;
         if (call) return macro::call_range(*call, v.block);
         const ActiveCycle* cyc = active_cycle(v.after);
-        return cyc && !cyc->start_range.empty() ? cyc->start_range : v.block.range;
+        if (!cyc) return v.block.range;
+        return !cyc->start_range.empty() ? cyc->start_range : !cyc->command_range.empty() ? cyc->command_range : v.block.range;
     }
 };
 
@@ -88,7 +89,7 @@ public:
         }
         // A fixed cycle commanded on this block (its G word is here).
         const ActiveCycle* c = active_cycle(v.after);
-        if (!c || !c->macro.empty() || c->start_line != v.block.line) return;
+        if (!c || !c->macro.empty() || cycle_start(*c, v.block) == CycleStart::Earlier) return;
         if (const CycleSpec* spec = ctx.catalog().find_cycle(c->code)) check(ctx, Site{*spec, nullptr, v});
     }
 

@@ -47,12 +47,14 @@ public:
         }
         // A fixed cycle commanded on this block: its F is the modal feed.
         const ActiveCycle* c = active_cycle(v.after);
-        if (!c || !c->macro.empty() || c->start_line != v.block.line) return;
+        // A cycle that may start here is checked too: the modal F and S it
+        // reads are those of the state before the block on every path.
+        if (!c || !c->macro.empty() || cycle_start(*c, v.block) == CycleStart::Earlier) return;
         const CycleSpec* spec = ctx.catalog().find_cycle(c->code);
         if (!spec) return;
         // A cycle continued from an earlier block keeps that block's F.
         if (active_cycle(v.before)) return;
-        check(ctx, *spec, c->start_range.empty() ? v.block.range : c->start_range,
+        check(ctx, *spec, c->start_range.empty() ? c->command_range : c->start_range,
               [&](const ArgSpec& a) { return block_has(v.block, a); }, v.before);
     }
 

@@ -11,6 +11,7 @@ constexpr RuleMeta kMeta{
     .severity = Severity::Warning,
     .summary = "G88 without I/J: the relief shift comes from the setting parameters",
     .category = RuleCategory::Suspicious,
+    .reports_may = true,
 };
 
 class G88ShiftFromParameters final : public RuleBase<G88ShiftFromParameters> {
@@ -18,13 +19,22 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
-        if (!c || c->code != 88 || !c->macro.empty() || c->start_line != v.block.line) return;
-        if (!c->known_absent("I") || !c->known_absent("J")) return;
-        ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range,
-                   "G88 has neither I nor J: after the oriented stop the tool is relieved by the shift direction "
-                   "and amount stored in the setting parameters (" + cite("fixed-cycles/g88") +
-                       "); if this tool's edge is oriented differently from what they assume, the relief goes the wrong way or by the wrong "
-                   "amount and the edge drags on the bore. Command I and J explicitly for this tool");
+        if (!c || c->code != 88 || !c->macro.empty()) return;
+        const CycleStart start = cycle_start(*c, v.block);
+        const std::string effect =
+            "after the oriented stop the tool is relieved by the shift direction and amount stored in the setting "
+            "parameters (" + cite("fixed-cycles/g88") +
+            "); if this tool's edge is oriented differently from what they assume, the relief goes the wrong way or "
+            "by the wrong amount and the edge drags on the bore. Command I and J explicitly for this tool";
+        if (start == CycleStart::Here && c->known_absent("I") && c->known_absent("J")) {
+            ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range,
+                       "G88 has neither I nor J: " + effect);
+        } else if (start == CycleStart::Unknown && !c->given("I") && !c->given("J")) {
+            // As OSP213: I and J given with a G88 before it may still be in effect.
+            report_may(ctx, kMeta, c->command_range,
+                       "G88 may have neither I nor J: on the paths where no G88 is modal before this block, " +
+                           effect);
+        }
     }
 };
 
