@@ -20,17 +20,18 @@ public:
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 82 || !c->macro.empty()) return;
         const CycleStart start = cycle_start(*c, v.block);
-        const std::string effect =
-            "the tool does not dwell at the hole bottom, so the cycle works like G81 and loses the depth accuracy "
-            "the dwell gives a blind hole or counterbore (" + cite("fixed-cycles/g82") +
-            "); add P, the dwell in seconds (revolutions x 60 / S), or use G81";
+        const auto effect = [] {  // built only for a finding: every hole of a G82 comes here
+            return "the tool does not dwell at the hole bottom, so the cycle works like G81 and loses the depth "
+                   "accuracy the dwell gives a blind hole or counterbore (" + cite("fixed-cycles/g82") +
+                   "); add P, the dwell in seconds (revolutions x 60 / S), or use G81";
+        };
         if (start == CycleStart::Here && c->known_absent("P")) {
-            ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range, "G82 has no P: " + effect);
+            ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range, "G82 has no P: " + effect());
         } else if (start == CycleStart::Unknown && !c->given("P")) {
             // A subprogram's first G82, or one at a loop head: a P given with
             // a G82 before it is still in effect on the paths where that G82 is.
             report_may(ctx, kMeta, c->command_range,
-                       "G82 may have no P: on the paths where no G82 is modal before this block, " + effect);
+                       "G82 may have no P: on the paths where no G82 is modal before this block, " + effect());
         }
     }
 };

@@ -21,19 +21,20 @@ public:
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 88 || !c->macro.empty()) return;
         const CycleStart start = cycle_start(*c, v.block);
-        const std::string effect =
-            "after the oriented stop the tool is relieved by the shift direction and amount stored in the setting "
-            "parameters (" + cite("fixed-cycles/g88") +
-            "); if this tool's edge is oriented differently from what they assume, the relief goes the wrong way or "
-            "by the wrong amount and the edge drags on the bore. Command I and J explicitly for this tool";
+        const auto effect = [] {  // built only for a finding: every hole of a G88 comes here
+            return "after the oriented stop the tool is relieved by the shift direction and amount stored in the "
+                   "setting parameters (" + cite("fixed-cycles/g88") +
+                   "); if this tool's edge is oriented differently from what they assume, the relief goes the wrong "
+                   "way or by the wrong amount and the edge drags on the bore. Command I and J explicitly for this tool";
+        };
         if (start == CycleStart::Here && c->known_absent("I") && c->known_absent("J")) {
             ctx.report(kMeta, c->start_range.empty() ? v.block.range : c->start_range,
-                       "G88 has neither I nor J: " + effect);
+                       "G88 has neither I nor J: " + effect());
         } else if (start == CycleStart::Unknown && !c->given("I") && !c->given("J")) {
             // As OSP213: I and J given with a G88 before it may still be in effect.
             report_may(ctx, kMeta, c->command_range,
                        "G88 may have neither I nor J: on the paths where no G88 is modal before this block, " +
-                           effect);
+                           effect());
         }
     }
 };
