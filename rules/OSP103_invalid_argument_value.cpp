@@ -19,15 +19,17 @@ struct Known {
     ByteRange range;
 };
 // `lookup(arg)` gives a Known.
+// `args`: each term's argument (RelationSides).
 template <class Lookup>
-std::optional<double> eval_terms(const std::vector<ExprTerm>& terms, const MacroSpec& spec, const Lookup& lookup) {
+std::optional<double> eval_terms(const std::vector<ExprTerm>& terms, const std::vector<int>& args,
+                                 const MacroSpec& spec, const Lookup& lookup) {
     double sum = 0;
-    for (const auto& t : terms) {
+    for (size_t i = 0; i < terms.size(); ++i) {
+        const ExprTerm& t = terms[i];
         double v = t.number;
         if (!t.name.empty()) {
-            const ArgSpec* a = spec.arg(t.name);
-            if (!a) return std::nullopt;
-            Known k = lookup(*a);
+            if (args[i] < 0) return std::nullopt;
+            Known k = lookup(spec.args[static_cast<size_t>(args[i])]);
             if (!k.value) return std::nullopt;
             v = *k.value;
         }
@@ -79,8 +81,11 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
             d.notes.push_back({note, std::nullopt});
         }
     }
-    for (const auto& r : spec.relations) {
-        if (macro::is_order_relation(r, spec)) continue;  // OSP302's
+    RelationSides local;
+    for (size_t i = 0; i < spec.relations.size(); ++i) {
+        const Relation& r = spec.relations[i];
+        const RelationSides& sides = macro::sides_of(spec, i, local);
+        if (sides.cycle_order) continue;  // OSP302's
         if (r.plane && (!plane || macro::plane_number(*plane) != r.plane)) continue;
         // Only what the call's own words decide; a condition on the modal
         // state is left to the motion rules.
@@ -90,17 +95,15 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
             return a && lookup(*a).value ? Tri::True : Tri::False;
         });
         if (applies != Tri::True) continue;
-        const auto* lt = catalog_expr(r.left);
-        const auto* rt = catalog_expr(r.right);
-        if (!lt || !rt) continue;
-        auto l = eval_terms(*lt, spec, lookup);
-        auto rv = eval_terms(*rt, spec, lookup);
+        if (!sides.left || !sides.right) continue;
+        auto l = eval_terms(*sides.left, sides.left_args, spec, lookup);
+        auto rv = eval_terms(*sides.right, sides.right_args, spec, lookup);
         if (!l || !rv || relation_holds(*l, r.op, *rv)) continue;
         ByteRange where = fallback;
-        for (const auto& t : *lt)
-            if (!t.name.empty())
-                if (const ArgSpec* a = spec.arg(t.name); a && !lookup(*a).range.empty()) {
-                    where = lookup(*a).range;
+        for (int k : sides.left_args)
+            if (k >= 0)
+                if (const ArgSpec& a = spec.args[static_cast<size_t>(k)]; !lookup(a).range.empty()) {
+                    where = lookup(a).range;
                     break;
                 }
         auto& d = ctx.report(kMeta, where,

@@ -36,9 +36,11 @@ struct Side {
     ByteRange range;
 };
 
-// The side's value with the text of a finding. `lookup(name)` gives a Value.
+// The side's value with the text of a finding. `lookup(name, arg)` gives a
+// Value; `args` holds each term's argument (RelationSides).
 template <class Lookup>
-Side evaluate_side(const std::vector<ExprTerm>* terms, const Lookup& lookup) {
+Side evaluate_side(const std::optional<std::vector<ExprTerm>>& terms, const std::vector<int>& args,
+                   const Lookup& lookup) {
     Side s;
     if (!terms) return s;
     double sum = 0;
@@ -47,7 +49,7 @@ Side evaluate_side(const std::vector<ExprTerm>* terms, const Lookup& lookup) {
         const ExprTerm& t = (*terms)[i];
         double v = t.number;
         if (!t.name.empty()) {
-            Value x = lookup(t.name);
+            Value x = lookup(t.name, args[i]);
             if (!x.known) return s;
             v = x.value;
             if (!x.how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + x.how;
@@ -72,14 +74,16 @@ struct SideValue {
     bool current = false;
 };
 template <class Lookup>
-SideValue side_value(const std::vector<ExprTerm>* terms, const Lookup& lookup) {
+SideValue side_value(const std::optional<std::vector<ExprTerm>>& terms, const std::vector<int>& args,
+                     const Lookup& lookup) {
     SideValue s;
     if (!terms) return s;
     double sum = 0;
-    for (const ExprTerm& t : *terms) {
+    for (size_t i = 0; i < terms->size(); ++i) {
+        const ExprTerm& t = (*terms)[i];
         double v = t.number;
         if (!t.name.empty()) {
-            Value x = lookup(t.name);
+            Value x = lookup(t.name, args[i]);
             if (!x.known) return s;
             v = x.value;
             s.current = s.current || x.current;
@@ -123,9 +127,10 @@ public:
         const char axis = plane ? plane_axes(*plane).cycle : 0;
 
         bool describe = false;  // the `how` of each value: only for a finding
-        const auto lookup = [&](const std::string& name) -> Value {
+        // `arg`: the argument `name` is (its index in the spec's args, -1: none).
+        const auto lookup = [&](const std::string& name, int arg) -> Value {
             Value out;
-            const ArgSpec* a = spec->arg(name);
+            const ArgSpec* a = arg >= 0 ? &spec->args[static_cast<size_t>(arg)] : nullptr;
             if (const MacroArg* m = a ? macro::given(*c, *a) : c->arg(name)) {
                 if (!m->value.known) return out;
                 out.known = true;
@@ -157,11 +162,11 @@ public:
             return out;
         };
 
+        RelationSides local;
         for (size_t i = 0; i < spec->relations.size(); ++i) {
             const Relation& r = spec->relations[i];
-            const auto* left = catalog_expr(r.left);
-            const auto* right = catalog_expr(r.right);
-            if (!macro::is_order_relation(left, right, *spec)) continue;
+            const RelationSides& sides = macro::sides_of(*spec, i, local);
+            if (!sides.cycle_order) continue;
             // Only what the call's own words decide.
             const Tri applies = r.when.eval([&](const ConditionAtom& at) {
                 if (at.kind != ConditionAtom::Kind::Given) return Tri::Unknown;
@@ -169,7 +174,8 @@ public:
                 return a && macro::given(*c, *a) ? Tri::True : Tri::False;
             });
             if (applies != Tri::True) continue;
-            const SideValue lv = side_value(left, lookup), rv = side_value(right, lookup);
+            const SideValue lv = side_value(sides.left, sides.left_args, lookup);
+            const SideValue rv = side_value(sides.right, sides.right_args, lookup);
             if (!lv.known || !rv.known) continue;
             const bool uses_current = lv.current || rv.current;
             // On positioning blocks of an open MODIN only the relations that
@@ -180,8 +186,8 @@ public:
             }
             if (relation_holds(lv.value, r.op, rv.value)) continue;
             describe = true;
-            const Side l = evaluate_side(left, lookup);
-            const Side rt = evaluate_side(right, lookup);
+            const Side l = evaluate_side(sides.left, sides.left_args, lookup);
+            const Side rt = evaluate_side(sides.right, sides.right_args, lookup);
             describe = false;
             report(ctx, v, *spec, r, l, rt, plane, axis);
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});

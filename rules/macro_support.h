@@ -49,23 +49,13 @@ inline const Word* m_code(const MacroCall& c, double code) {
     return nullptr;
 }
 
-// Whether a catalog relation orders cycle-axis coordinates (PR > PZ): those
-// are OSP302's, the others (FA > F, Q > K) OSP103's. The catalog refuses an
-// expression it cannot parse when it loads.
-// This form takes the sides as catalog_expr gave them (nullptr: not parsed),
-// for a caller that reads them next.
-inline bool is_order_relation(const std::vector<ExprTerm>* left, const std::vector<ExprTerm>* right,
-                              const MacroSpec& spec) {
-    for (const auto* terms : {left, right}) {
-        if (!terms) return false;
-        for (const auto& t : *terms)
-            if (!t.name.empty())
-                if (const ArgSpec* a = spec.arg(t.name); a && a->role == ArgRole::Cycle) return true;
-    }
-    return false;
-}
-inline bool is_order_relation(const Relation& r, const MacroSpec& spec) {
-    return is_order_relation(catalog_expr(r.left), catalog_expr(r.right), spec);
+// The sides of relation `i` of `spec` (RelationSides): the catalog's, else
+// read into `local`. `cycle_order` tells OSP302's relations (PR > PZ) from
+// OSP103's (FA > F, Q > K).
+inline const RelationSides& sides_of(const MacroSpec& spec, size_t i, RelationSides& local) {
+    if (const RelationSides* s = spec.sides(i)) return *s;
+    local = relation_sides(spec.relations[i], spec);
+    return local;
 }
 
 // The argument as given (by its name or one of its aliases), or nullptr.

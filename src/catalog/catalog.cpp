@@ -187,9 +187,12 @@ uint64_t packed_name(std::string_view n) {
 namespace {
 // The first slot of a packed name in a table of `mask + 1` slots.
 size_t arg_slot(uint64_t key, size_t mask) { return static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> 40) & mask; }
-}  // namespace
 
-void MacroSpec::index_args() {
+// MacroSpec::arg_index.
+void index_arg_names(MacroSpec& spec) {
+    auto& args = spec.args;
+    auto& arg_index = spec.arg_index;
+    auto& arg_index_of = spec.arg_index_of;
     arg_index.clear();
     arg_index_of = 0;
     if (args.size() > 0xFFFF) return;  // arg() compares the names
@@ -210,6 +213,40 @@ void MacroSpec::index_args() {
     }
     arg_index = std::move(table);
     arg_index_of = args.size();
+}
+}  // namespace
+
+void MacroSpec::index_args() {
+    index_arg_names(*this);
+    relation_sides_.clear();
+    for (const Relation& r : relations) relation_sides_.push_back(relation_sides(r, *this));
+    relation_sides_of = relations.size();
+    relation_sides_args_ = args.size();
+}
+
+
+RelationSides relation_sides(const Relation& r, const MacroSpec& spec) {
+    RelationSides out;
+    out.left = parse_catalog_expr(r.left);
+    out.right = parse_catalog_expr(r.right);
+    const auto link = [&](const std::optional<std::vector<ExprTerm>>& terms, std::vector<int>& args) {
+        if (!terms) return;
+        for (const ExprTerm& t : *terms) {
+            const ArgSpec* a = t.name.empty() ? nullptr : spec.arg(t.name);
+            args.push_back(a ? static_cast<int>(a - spec.args.data()) : -1);
+        }
+    };
+    link(out.left, out.left_args);
+    link(out.right, out.right_args);
+    // The left side read first: a cycle-axis name there decides; a side not
+    // read orders nothing (the catalog refuses such a side when it loads).
+    const auto names_cycle_axis = [&](const std::vector<int>& args) {
+        for (int i : args)
+            if (i >= 0 && spec.args[static_cast<size_t>(i)].role == ArgRole::Cycle) return true;
+        return false;
+    };
+    out.cycle_order = out.left && (names_cycle_axis(out.left_args) || (out.right && names_cycle_axis(out.right_args)));
+    return out;
 }
 
 const ArgSpec* MacroSpec::arg(std::string_view n) const {

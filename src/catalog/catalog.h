@@ -164,6 +164,14 @@ struct AtLeastOne {
     bool inferred = false;
 };
 
+// The expressions of `ActionStep::target`, `ActionStep::by` and `Relation`:
+// a sum of terms, each a number or an argument name, joined by + and -.
+struct ExprTerm {
+    int sign = 1;      // +1 or -1
+    std::string name;  // argument name, empty for a number
+    double number = 0;
+};
+
 // A relation between argument values: `left op right`, where both sides are
 // simple expressions over argument names and numbers (see parse_catalog_expr).
 struct Relation {
@@ -173,6 +181,17 @@ struct Relation {
     std::string source;
     bool inferred = false;
     std::string note;
+};
+
+// A relation's sides as the rules read them at every call: parsed, and each
+// term's argument found (its index in the spec's `args`, -1 for a number or a
+// name that is no argument of the spec).
+struct RelationSides {
+    std::optional<std::vector<ExprTerm>> left, right;  // nullopt: not in the syntax
+    std::vector<int> left_args, right_args;             // one per term
+    // A side names a cycle-axis argument (PR > PZ): the relation orders
+    // points on the cycle axis (OSP302's; the others, FA > F, are OSP103's).
+    bool cycle_order = false;
 };
 
 // One step of the manual's action sequence. `target` is the cycle-axis
@@ -256,7 +275,21 @@ struct MacroSpec {
     // made for another number of arguments: arg() compares the names.
     std::vector<std::pair<uint64_t, uint16_t>> arg_index;
     size_t arg_index_of = 0;  // args.size() when it was made
+    // Makes arg_index and relation_sides_.
     void index_args();
+    // `relations` with their sides read (relation_sides), made with
+    // index_args; for another number of relations, sides() makes none.
+    std::vector<RelationSides> relation_sides_;
+    size_t relation_sides_of = 0;    // relations.size() when they were made
+    size_t relation_sides_args_ = 0; // args.size() then
+    // The sides of relation `i`, or nullptr when they were not made (then
+    // relation_sides reads them).
+    const RelationSides* sides(size_t i) const {
+        return relation_sides_of == relations.size() && relation_sides_args_ == args.size() &&
+                       i < relation_sides_.size()
+                   ? &relation_sides_[i]
+                   : nullptr;
+    }
 
     // By name or alias, case-insensitive.
     const ArgSpec* arg(std::string_view name) const;
@@ -359,13 +392,6 @@ std::string constraint_text(const ArgSpec& a);
 // Whether `left op right` holds for a Relation's operator (> >= < <= == !=).
 bool relation_holds(double left, std::string_view op, double right);
 
-// The expressions of `ActionStep::target`, `ActionStep::by` and `Relation`:
-// a sum of terms, each a number or an argument name, joined by + and -.
-struct ExprTerm {
-    int sign = 1;      // +1 or -1
-    std::string name;  // argument name, empty for a number
-    double number = 0;
-};
 // Parses an expression; nullopt when it does not follow the syntax.
 std::optional<std::vector<ExprTerm>> parse_catalog_expr(std::string_view text);
 // The same, parsed once per thread and kept: the rules and the motion
@@ -373,5 +399,8 @@ std::optional<std::vector<ExprTerm>> parse_catalog_expr(std::string_view text);
 // text does not follow the syntax. The pointer stays valid for the thread's
 // life; the texts are the catalogs' own, so the store stays small.
 const std::vector<ExprTerm>* catalog_expr(std::string_view text);
+
+// The sides of relation `r` of `spec`, read (what MacroSpec::sides holds).
+RelationSides relation_sides(const Relation& r, const MacroSpec& spec);
 
 }  // namespace osplint

@@ -937,3 +937,56 @@ TEST_CASE("catalog_expr: a text changed in place at the same address is parsed a
     CHECK(catalog_expr(text) == nullptr);
     CHECK(catalog_expr(std::string("PR+1")) == a);
 }
+
+TEST_CASE("relation sides: read once with the catalog, as the names and the roles give them") {
+    const Catalog& cat = Catalog::builtin();
+    size_t relations = 0, ordering = 0;
+    auto check = [&](const MacroSpec& spec) {
+        for (size_t i = 0; i < spec.relations.size(); ++i) {
+            const Relation& r = spec.relations[i];
+            INFO(spec.name << " " << r.left << " " << r.op << " " << r.right);
+            const RelationSides* s = spec.sides(i);
+            REQUIRE(s != nullptr);
+            ++relations;
+            const auto* left = catalog_expr(r.left);
+            const auto* right = catalog_expr(r.right);
+            REQUIRE((left && right));
+            REQUIRE((s->left && s->right));
+            REQUIRE(s->left->size() == left->size());
+            REQUIRE(s->right->size() == right->size());
+            REQUIRE(s->left_args.size() == left->size());
+            REQUIRE(s->right_args.size() == right->size());
+            bool cycle = false;
+            for (const auto& [terms, args] : {std::pair{left, &s->left_args}, std::pair{right, &s->right_args}})
+                for (size_t k = 0; k < terms->size(); ++k) {
+                    const ExprTerm& t = (*terms)[k];
+                    const ArgSpec* a = t.name.empty() ? nullptr : spec.arg(t.name);
+                    CHECK((*args)[k] == (a ? static_cast<int>(a - spec.args.data()) : -1));
+                    cycle = cycle || (a && a->role == ArgRole::Cycle);
+                }
+            CHECK(s->cycle_order == cycle);
+            if (s->cycle_order) ++ordering;
+        }
+    };
+    for (const auto& m : cat.macros()) check(m);
+    for (const auto& c : cat.cycles()) check(c);
+    CHECK(relations > 10);
+    CHECK(ordering > 3);
+    CHECK(ordering < relations);  // FA > F and the like are not orders on the cycle axis
+
+    // A relation added after the catalog was read: none are served until they are made again.
+    const MacroSpec* og87c = cat.find("OG87C");
+    REQUIRE(og87c != nullptr);
+    MacroSpec changed = *og87c;
+    REQUIRE(changed.sides(0) != nullptr);
+    changed.relations.push_back(Relation{"PR", ">", "PZ"});
+    CHECK(changed.sides(0) == nullptr);
+    const RelationSides made = relation_sides(changed.relations.back(), changed);
+    CHECK(made.cycle_order);
+    changed.index_args();
+    REQUIRE(changed.sides(changed.relations.size() - 1) != nullptr);
+    CHECK(changed.sides(changed.relations.size() - 1)->cycle_order);
+    // A side that is not an expression orders nothing.
+    changed.relations.push_back(Relation{"PR+", ">", "PZ"});
+    CHECK_FALSE(relation_sides(changed.relations.back(), changed).cycle_order);
+}
