@@ -206,7 +206,7 @@ void Walk::walk_blocks() {
         converge_if_due();
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
-        if (!read(b, line, moves_with_rules())) break;
+        if (!read(b, line, moves_with_rules() && plain_may_apply())) break;
         uint32_t extent = 0;
         if (flow_.has_flow() && loop_head(b, line.start, extent)) {
             read_whole(b, line);  // a loop may hold its head
@@ -349,7 +349,7 @@ bool Walk::first_sweep(uint32_t index, uint32_t& extent, HeldLoop* held) {
         // values alone.
         const bool holding = held && held->holding;
         if (!holding && skim(line)) continue;
-        parse(b, line, !holding && plain_ok_);
+        parse(b, line, !holding && plain_ok_ && plain_may_apply());
         loop_head(b, line.start, extent);
         if (holding) held->hold(b, line, options_.held_loop_blocks);
         visit(b, line, Mode::Iterate);
@@ -415,11 +415,11 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
             if (!fetch(line)) break;
             if (converged(line.start, index, true)) return false;
             if (skim(line)) continue;
-            parse(b, line, plain_ok_);
+            parse(b, line, plain_ok_ && plain_may_apply());
             visit(b, line, mode);
             continue;
         }
-        if (!read(b, line, moves_with_rules())) break;
+        if (!read(b, line, moves_with_rules() && plain_may_apply())) break;
         visit(b, line, mode);
     }
     return !stop_;

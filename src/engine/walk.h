@@ -25,6 +25,7 @@
 #include "engine/summaries.h"
 #include "engine/suppress.h"
 #include "semantics/eval.h"
+#include "semantics/transfer.h"
 #include "syntax/frontend_fast.h"
 #include "syntax/outline.h"
 
@@ -294,6 +295,11 @@ private:
     // Whether a walk with the rules may read plain moves in part: not for an
     // observer (trace, hover), which sees every field of every block.
     bool moves_with_rules() const { return plain_ok_ && !options_.observer; }
+    // Whether the next block, if a plain move, may be applied as one: not in
+    // a state where a plain move is more (in a fixed cycle, under MODIN), where
+    // a block read in part would be read again whole. (The paths that join at
+    // the block may still change this: visit reads it whole then.)
+    bool plain_may_apply() const { return reachable_ && plain_move_state(*A_); }
     void fail(std::string message);
 
     // --- the walk
