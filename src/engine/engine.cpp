@@ -47,6 +47,7 @@ std::string Walk::run() {
     for (auto& r : rules_)
         if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
     plain_ok_ = plain_moves_possible(config_.catalog);
+    runs_ok_ = !options_.checkpoints && !options_.observer;
     filter_.emplace(outline_, *options_.rules, config_,
                     options_.run_rules ? options_.only_rules : std::vector<std::string>{"(none)"});
     initial_used_ = filter_->used();
@@ -342,6 +343,11 @@ bool Walk::first_sweep(uint32_t index, uint32_t& extent, HeldLoop* held) {
         if (may_converge)
             if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
         mark_loop(extent, index);
+        if (!(held && held->holding))
+            if (const uint32_t k = skim_run(index, uint64_t(extent) + 1)) {
+                index += k - 1;
+                continue;
+            }
         if (!fetch(line)) break;
         converged(line.start, index, false);
         // A loop whose lines are held keeps each block whole (its other
@@ -412,6 +418,10 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
                 take_loop_checkpoint();
         }
         if (mode == Mode::Iterate) {
+            if (const uint32_t k = skim_run(index, end)) {
+                index += k - 1;
+                continue;
+            }
             if (!fetch(line)) break;
             if (converged(line.start, index, true)) return false;
             if (skim(line)) continue;
@@ -646,6 +656,49 @@ bool Walk::skim(const LineRef& line) {
     apply_plain_move(plain_move_, line.line, plain_after());
     plain_done(line);
     return true;
+}
+
+// skim over a run of plain moves at once (FastLineParser::plain_run), in a
+// sweep without the rules of a batch analysis: the lines from the next one
+// on, while each is a plain move skim would apply, up to the block before
+// `start_limit`, the next probe (`index` is the next block's) and the next
+// block a loop edge or a loop head makes a join. Returns the blocks read.
+uint32_t Walk::skim_run(uint32_t index, uint64_t start_limit) {
+    if (!runs_ok_ || !plain_ok_ || !reachable_ || !plain_move_state(*A_)) return 0;
+    // Only the last word of each address counts in absolute mode or an
+    // unknown one; in incremental mode each move adds to the position.
+    if (A_->distance.known && A_->distance.value != Distance::Absolute) return 0;
+    if (index % kProbeBlocks == 0) return 0;  // converged() looks at that block
+    const uint32_t max_lines = kProbeBlocks - index % kProbeBlocks;
+    const uint64_t from = main_.next_offset();
+    if (from >= UINT32_MAX) return 0;
+    const uint32_t at = static_cast<uint32_t>(from);
+    start_limit = std::min<uint64_t>({start_limit, flow_.end(), pending_offset_.next_at(at), flow_.next_loop_head(at)});
+    // The last block of the program brings the final state (plain_done); fetch refuses a line past kMaxInputSize.
+    const uint64_t end_limit = std::min<uint64_t>(flow_.end(), kMaxInputSize + 1);
+    const std::string_view text = main_.buffered();
+    const uint32_t first_line = main_.next_line();
+    uint32_t read = 0;
+    const auto run = parser_.plain_run(text, at, max_lines, start_limit, end_limit, [&](size_t start) {
+        positions_.note_line(LineRef{{}, {}, first_line + read++, at + static_cast<uint32_t>(start)});
+    });
+    if (run.lines == 0) return 0;
+    main_.skip_buffered(run.bytes, run.lines, run.last_start);
+    partial_ = nullptr;
+    stats_.blocks_parsed += run.lines;
+    stats_.transfers += run.lines;
+    stats_.run_blocks += run.lines;
+    apply_plain_move(run.last, first_line + run.lines - 1, plain_after());
+    std::swap(A_, B_);
+    near_ = true;
+    if (options_.cancel && ((walked_ + run.lines) >> 10) != (walked_ >> 10) &&
+        options_.cancel->load(std::memory_order_relaxed)) {
+        walked_ += run.lines;
+        fail(std::string(kCancelled));
+        return run.lines;
+    }
+    walked_ += run.lines;
+    return run.lines;
 }
 
 void Walk::read_whole(const Block& b, const LineRef& line) {

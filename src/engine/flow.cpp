@@ -28,6 +28,7 @@ ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end)
                     if (h.kind == StmtKind::While) pair.while_loop = true;
                 by_head_[pair.head] = pair;
                 heads_.add(pair.head);
+                head_offsets_.push_back(pair.head);
                 by_end_[pair.end] = pair;
             } else if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty()) {
                 uint32_t& last = last_jump_.try_emplace(st.name, 0).first->second;
@@ -35,6 +36,8 @@ ProgramFlow::ProgramFlow(const ProgramOutline& program, uint64_t end)
             }
         }
     }
+    std::sort(head_offsets_.begin(), head_offsets_.end());
+    head_offsets_.erase(std::unique(head_offsets_.begin(), head_offsets_.end()), head_offsets_.end());
 }
 
 const LoopPair* ProgramFlow::loop_at_head(uint32_t offset) const {

@@ -17,6 +17,7 @@
 // walk iterates from there to the last such jump (engine.cpp).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <unordered_map>
@@ -49,6 +50,11 @@ public:
     // The loop whose head / END is the block at `offset`.
     const LoopPair* loop_at_head(uint32_t offset) const;
     const LoopPair* loop_at_end(uint32_t offset) const;
+    // The offset of the first loop head at or after `offset` (UINT32_MAX: none).
+    uint32_t next_loop_head(uint32_t offset) const {
+        auto it = std::lower_bound(head_offsets_.begin(), head_offsets_.end(), offset);
+        return it == head_offsets_.end() ? UINT32_MAX : *it;
+    }
     // Every matched loop, by the offset of its head.
     std::vector<LoopPair> loops() const;
     // The offset of the last block that jumps to `name`.
@@ -68,6 +74,7 @@ private:
     bool flow_ = false;
     std::unordered_map<uint32_t, LoopPair> by_head_, by_end_;
     OffsetFilter heads_;  // the offsets of by_head_: most blocks are not a loop's head
+    std::vector<uint32_t> head_offsets_;  // the same, in order
     std::unordered_map<std::string, uint32_t, NameHash, std::equal_to<>> last_jump_;
     std::unordered_set<std::string, NameHash, std::equal_to<>> references_;
 };

@@ -83,6 +83,11 @@ public:
         auto it = map_.find(offset);
         return it == map_.end() ? nullptr : &it->second;
     }
+    // The first offset at or after `offset` that holds a state (UINT32_MAX: none).
+    uint32_t next_at(uint32_t offset) const {
+        auto it = map_.lower_bound(offset);
+        return it == map_.end() ? UINT32_MAX : it->first;
+    }
     void clear() {
         map_.clear();
         filter_.clear();
@@ -290,6 +295,10 @@ private:
     // In a sweep without the rules: a plain move applied from its values
     // alone, without a block; false for any other line (it is then parsed).
     bool skim(const LineRef& line);
+    uint32_t skim_run(uint32_t index, uint64_t start_limit);
+    // Whether skim_run may read past lines: not for the language server's
+    // checkpoints (taken at blocks: mark_loop) or an analysis that may end early.
+    bool runs_ok_ = false;
     // The block `b` read last, parsed whole if it was read in part.
     void read_whole(const Block& b, const LineRef& line);
     // Whether a walk with the rules may read plain moves in part: not for an

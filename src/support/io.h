@@ -208,6 +208,15 @@ public:
     // Offset and number of the line next() will return.
     uint64_t next_offset() const { return buf_offset_ + pos_; }
     uint32_t next_line() const { return line_; }
+    // The bytes read ahead, from the next line on (its last line may not be whole).
+    std::string_view buffered() const { return {buf_.data() + pos_, end_ - pos_}; }
+    // Passes over the first `bytes` of buffered(): `lines` whole lines, the
+    // last of them starting at `last_start` (an offset into buffered()).
+    void skip_buffered(size_t bytes, uint32_t lines, size_t last_start) {
+        start64_ = buf_offset_ + pos_ + last_start;
+        pos_ += bytes;
+        line_ += lines;
+    }
 
 private:
     bool fill();

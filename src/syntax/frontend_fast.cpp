@@ -730,6 +730,93 @@ bool FastLineParser::plain_move(const LineRef& line, PlainMove& out) {
     return ok;
 }
 
+FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32_t base, uint32_t max_lines,
+                                                   uint64_t start_limit, uint64_t end_limit,
+                                                   FunctionRef<void(size_t)> line_read) {
+    // The last word of each address, X Y Z F G, as offsets into `text`.
+    struct Last {
+        bool seen = false;
+        char sign = 0;
+        uint32_t begin = 0, digits = 0, end = 0;
+    };
+    static constexpr char kAddress[] = {'X', 'Y', 'Z', 'F', 'G'};
+    std::array<Last, 5> last{};
+    const char* const s = text.data();
+    const size_t n = text.size();
+    PlainRun run;
+    size_t p = 0;
+    while (run.lines < max_lines && base + p < start_limit) {
+        std::array<std::pair<int, Last>, PlainMove::kMaxWords> words;
+        size_t count = 0;
+        size_t q = p;
+        bool ok = true;
+        while (true) {
+            while (q < n && s[q] == ' ') ++q;
+            if (q >= n) {
+                ok = false;  // not whole here
+                break;
+            }
+            const char c = s[q];
+            if (c == '\n' || c == '\r') break;
+            int slot = 0;
+            while (slot < 5 && kAddress[slot] != c) ++slot;
+            if (slot == 5 || count == PlainMove::kMaxWords) {
+                ok = false;
+                break;
+            }
+            Last w;
+            w.begin = static_cast<uint32_t>(q++);
+            if (slot != 4 && q < n && (s[q] == '+' || s[q] == '-')) w.sign = s[q++];
+            w.digits = static_cast<uint32_t>(q);
+            size_t digits = 0;
+            while (q < n && is_digit(s[q])) ++q, ++digits;
+            if (slot == 4) {
+                // G0 to G3, digits only (G00 ... G03).
+                if (digits == 0 || digits > 2 || s[q - 1] > '3' || (digits == 2 && s[q - 2] != '0')) {
+                    ok = false;
+                    break;
+                }
+            } else if (q < n && s[q] == '.') {
+                ++q;
+                while (q < n && is_digit(s[q])) ++q, ++digits;
+            }
+            if (digits == 0 || digits > 15 || q >= n ||
+                !(s[q] == ' ' || s[q] == '\n' || s[q] == '\r' || (s[q] >= 'A' && s[q] <= 'Z'))) {
+                ok = false;
+                break;
+            }
+            w.end = static_cast<uint32_t>(q);
+            w.seen = true;
+            words[count++] = {slot, w};
+        }
+        if (!ok || count == 0 || q - p > kMaxLineLength) break;
+        size_t next = q + 1;
+        if (s[q] == '\r') {
+            if (q + 1 >= n) break;  // CR LF or CR alone: the next byte decides
+            if (s[q + 1] == '\n') ++next;
+        }
+        if (base + next >= end_limit) break;
+        for (size_t k = 0; k < count; ++k) last[static_cast<size_t>(words[k].first)] = words[k].second;
+        line_read(p);
+        run.last_start = p;
+        ++run.lines;
+        p = next;
+    }
+    run.bytes = p;
+    for (size_t slot = 0; slot < 5; ++slot) {
+        const Last& w = last[slot];
+        if (!w.seen) continue;
+        double v = 0;
+        scan_number<false>(s + w.digits, s + w.end, v);
+        PlainMoveWord& out = run.last.words[run.last.count++];
+        out.address = kAddress[slot];
+        out.number = w.sign == '-' ? -v : v;
+        out.range = {base + w.begin, base + w.end};
+    }
+    fast_lines_ += run.lines;
+    return run;
+}
+
 bool FastLineParser::parse_outline(const LineRef& line, Block& out) {
     impl_->outline = true;
     const bool ok = parse(line, out);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "support/io.h"
+#include "support/function_ref.h"
 #include "syntax/model.h"
 #include "syntax/source.h"
 
@@ -87,6 +88,27 @@ public:
     // same scan, but into `out` instead of a block. False for any other line
     // (the caller then parses it). For a sweep that needs only the values.
     bool plain_move(const LineRef& line, PlainMove& out);
+
+    // Lines of the strictest shape plain_move reads: upper-case X, Y, Z and F
+    // words (an optional sign, then at most 15 digits with at most one point)
+    // and G0 to G3 (digits only), glued or separated by spaces, one to
+    // PlainMove::kMaxWords words, each line ended by LF, CR LF or CR. Across
+    // such lines only the last word of each address decides what they leave
+    // (in absolute mode, or while the mode is unknown), so a run of them is
+    // read without the numbers but those.
+    struct PlainRun {
+        size_t bytes = 0;       // the lines read, terminators included
+        size_t last_start = 0;  // where the last of them starts in the text
+        uint32_t lines = 0;
+        PlainMove last;         // the last word of each address met (its number read)
+    };
+    // Reads such lines from the start of `text` (at offset `base` of the
+    // file), whole lines only: at most `max_lines`, each starting before
+    // `start_limit` and ending, terminator included, before `end_limit`
+    // (offsets of the file). Stops before any other line. `line_read(start)`
+    // is told the start (in `text`) of each line read.
+    PlainRun plain_run(std::string_view text, uint32_t base, uint32_t max_lines, uint64_t start_limit,
+                       uint64_t end_limit, FunctionRef<void(size_t)> line_read);
 
     // Whether the last line parsed is a plain move (analyzer.h:
     // is_plain_move_block) of the simplest shape: glued literal words only. A
