@@ -8,6 +8,8 @@
 // lines.
 #include <doctest/doctest.h>
 
+#include <cctype>
+#include <cstring>
 #include <algorithm>
 #include <random>
 #include <sstream>
@@ -453,4 +455,137 @@ TEST_CASE("fast front end: parse_moves keeps what the walk reads of a plain move
     REQUIRE(b.words.size() == 1);
     CHECK(b.words[0].value_text == "1.5");
     CHECK(b.words[0].value != kNoExpr);
+}
+
+namespace {
+
+// Whether plain_run may take the line: plain_move reads it, and it is of the
+// strictest shape (upper case X Y Z F G words, spaces, G0 to G3 written with
+// one or two digits, at most 15 digits in a value).
+bool strict_plain_move(const std::string& line, PlainMove& m) {
+    FastLineParser p;
+    if (!p.plain_move(LineRef{line, "\n", 1, 100}, m)) return false;
+    for (char c : line)
+        if (!(c == ' ' || c == '.' || c == '+' || c == '-' || (c >= '0' && c <= '9') || c == 'X' || c == 'Y' ||
+              c == 'Z' || c == 'F' || c == 'G'))
+            return false;
+    for (size_t i = 0; i < line.size(); ++i) {
+        if (!std::isupper(static_cast<unsigned char>(line[i]))) continue;
+        size_t j = i + 1, digits = 0;
+        while (j < line.size() && !std::isupper(static_cast<unsigned char>(line[j])) && line[j] != ' ')
+            digits += std::isdigit(static_cast<unsigned char>(line[j++])) ? 1 : 0;
+        const std::string value = line.substr(i + 1, j - i - 1);
+        if (line[i] == 'G' && !(!value.empty() && value.size() <= 2 && digits == value.size() && value.back() <= '3' &&
+                                (value.size() == 1 || value[0] == '0')))
+            return false;
+        if (digits > 15) return false;
+    }
+    return true;
+}
+
+// A random line, most of them plain moves of the strictest shape, of 1 to
+// about 45 bytes (the quick check of plain_run takes those under 32).
+std::string random_move_line(std::mt19937& rng) {
+    auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+    std::string line(static_cast<size_t>(pick(3) == 0 ? pick(3) : 0), ' ');
+    const int words = 1 + pick(4);
+    for (int w = 0; w < words; ++w) {
+        line += "XYZFG"[pick(5)];
+        if (line.back() == 'G') {
+            line += pick(4) == 0 ? "0" : "";
+            line += static_cast<char>('0' + pick(5));
+        } else {
+            if (pick(3) == 0) line += pick(2) ? '-' : '+';
+            const int whole = pick(8) == 0 ? pick(18) : pick(4), fraction = pick(5) == 0 ? pick(18) : pick(4);
+            for (int d = 0; d < whole; ++d) line += static_cast<char>('0' + pick(10));
+            if (pick(4) != 0) line += '.';
+            for (int d = 0; d < fraction; ++d) line += static_cast<char>('0' + pick(10));
+        }
+        line += std::string(static_cast<size_t>(pick(3) == 0 ? 0 : pick(3) == 0 ? 2 : 1), ' ');
+    }
+    if (pick(4) == 0) {  // something else somewhere
+        const char* other = "xNM\t.+-A.G5 1";
+        line.insert(static_cast<size_t>(pick(static_cast<int>(line.size()) + 1)), 1, other[pick(13)]);
+    }
+    return line;
+}
+
+}  // namespace
+
+TEST_CASE("fast front end: plain_run reads the lines of the strictest plain-move shape, the last word of each") {
+    std::mt19937 rng(20261203);
+    FastLineParser p;
+    size_t taken = 0, quick = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const std::string line = random_move_line(rng);
+        const char* terminator = i % 3 == 0 ? "\n" : i % 3 == 1 ? "\r\n" : "\r";
+        PlainMove want;
+        const bool plain = strict_plain_move(line, want);
+        // The line with 40 bytes of another line after it (the quick check
+        // when it is short), and with one byte after it (byte by byte).
+        for (const std::string& after : {std::string("M30") + std::string(40, ' '), std::string("M")}) {
+            const std::string text = line + terminator + after;
+            const auto run = p.plain_run(text, 100, 10, UINT64_MAX, UINT64_MAX, [](size_t) {});
+            REQUIRE_MESSAGE(run.lines == (plain ? 1u : 0u), "'" << line << "'");
+            if (!plain) continue;
+            ++taken;
+            quick += line.size() < 32 && after.size() > 1;
+            CHECK(run.bytes == line.size() + std::strlen(terminator));
+            // The last word of each address, in the order X Y Z F G.
+            std::vector<PlainMoveWord> last;
+            for (char a : std::string("XYZFG"))
+                for (size_t k = want.count; k-- > 0;)
+                    if (want.words[k].address == a) {
+                        last.push_back(want.words[k]);
+                        break;
+                    }
+            REQUIRE_MESSAGE(run.last.count == last.size(), "'" << line << "'");
+            for (size_t k = 0; k < last.size(); ++k) {
+                CHECK_MESSAGE(run.last.words[k].address == last[k].address, "'" << line << "'");
+                CHECK_MESSAGE(run.last.words[k].number == last[k].number, "'" << line << "'");
+                CHECK_MESSAGE(run.last.words[k].range == last[k].range, "'" << line << "'");
+            }
+        }
+    }
+    CHECK(taken > 100000);
+    CHECK(quick > 50000);
+
+    // Several lines at once: the last word of each address over them, up to
+    // the first line of another shape.
+    const std::string text = "X1. Y2. Z3.\r\nX-4.5 F300\nG2 Y.5\nZ-0.25\nM30\n" + std::string(40, ' ');
+    std::vector<size_t> starts;
+    const auto run = p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, [&](size_t s) { starts.push_back(s); });
+    CHECK(run.lines == 4);
+    CHECK(starts == std::vector<size_t>{0, 13, 24, 31});
+    CHECK(run.last_start == 31);
+    CHECK(run.bytes == 38);
+    REQUIRE(run.last.count == 5);
+    CHECK(run.last.words[0].number == -4.5);
+    CHECK(run.last.words[1].number == 0.5);
+    CHECK(run.last.words[2].number == -0.25);
+    CHECK(run.last.words[3].number == 300);
+    CHECK(run.last.words[4].number == 2);
+    CHECK(run.last.words[4].range == ByteRange{24, 26});
+}
+
+TEST_CASE("fast front end: parse_moves reads random plain moves, with or without a sequence name, as parse does") {
+    // Numbers of 0 to 17 digits each side of the point, a sequence name
+    // glued or not, other bytes put in at random.
+    std::mt19937 rng(20261204);
+    std::string text;
+    for (int i = 0; i < 60000; ++i) {
+        const unsigned prefix = rng() % 6;
+        if (prefix == 1 || prefix == 2) {
+            text += 'N';
+            text += std::to_string(rng() % (prefix == 1 ? 100000 : 1000));
+            if (prefix == 1) text += ' ';
+        }
+        if (prefix == 3) text += "n7 ";
+        text += random_move_line(rng);
+        text += i % 7 == 0 ? "\r\n" : "\n";
+    }
+    size_t partial = 0;
+    CHECK(compare_moves("random", text, &partial) == "");
+    CHECK(partial > 30000);
+    CHECK(compare_plain_move("random", text) == "");
 }
