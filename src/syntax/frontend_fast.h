@@ -89,10 +89,10 @@ public:
     // (the caller then parses it). For a sweep that needs only the values.
     bool plain_move(const LineRef& line, PlainMove& out);
 
-    // Lines of the strictest shape plain_move reads: upper-case X, Y, Z and F
-    // words (an optional sign, then at most 15 digits with at most one point)
-    // and G0 to G3 (digits only), glued or separated by spaces, one to
-    // PlainMove::kMaxWords words, each line ended by LF, CR LF or CR. Across
+    // Lines of the strictest shape parse_moves keeps in part: upper-case X, Y,
+    // Z and F words (an optional sign, then at most 15 digits with at most one
+    // point) and G0 to G3 (digits only), glued or separated by spaces, one
+    // word at least, each line ended by LF, CR LF or CR. Across
     // such lines only the last word of each address decides what they leave
     // (in absolute mode, or while the mode is unknown), so a run of them is
     // read without the numbers but those.

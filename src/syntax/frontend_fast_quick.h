@@ -27,14 +27,6 @@ struct QuickLine {
     uint64_t x = 0, y = 0, z = 0, f = 0;  // the address letters
 };
 
-// The bits set in v (no popcnt instruction in the baseline x86-64 set).
-inline int bits_set(uint64_t v) {
-    v = v - ((v >> 1) & 0x5555555555555555u);
-    v = (v & 0x3333333333333333u) + ((v >> 2) & 0x3333333333333333u);
-    v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Fu;
-    return static_cast<int>((v * 0x0101010101010101u) >> 56);
-}
-
 // The bytes of the 32 at lo, hi equal to c, as a mask.
 inline uint64_t equal_to(__m128i lo, __m128i hi, char c) {
     const __m128i k = _mm_set1_epi8(c);
@@ -59,10 +51,10 @@ inline int quick_line_end(const char* s) {
 }
 
 // Whether the line of `e` bytes (e < 32) at s, 32 bytes at s readable, is
-// made of spaces and 1 to `max_words` X, Y, Z and F words whose values are
+// made of spaces and X, Y, Z and F words (one at least) whose values are
 // an optional sign, then digits with at most one point among them, at least
 // one digit and at most 15 bytes. The bytes from s[e] on are not looked at.
-inline bool quick_line(const char* s, int e, int max_words, QuickLine& out) {
+inline bool quick_line(const char* s, int e, QuickLine& out) {
     const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s));
     const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s + 16));
     const uint64_t line = (uint64_t(1) << e) - 1;
@@ -74,8 +66,7 @@ inline bool quick_line(const char* s, int e, int max_words, QuickLine& out) {
     const uint64_t sign = (equal_to(lo, hi, '-') | equal_to(lo, hi, '+')) & line;
     const uint64_t value = digit | point | sign;
     // Nothing but words and spaces.
-    if ((line & ~(address | value | equal_to(lo, hi, ' '))) != 0) return false;
-    if (address == 0 || bits_set(address) > max_words) return false;
+    if ((line & ~(address | value | equal_to(lo, hi, ' '))) != 0 || address == 0) return false;
     const uint64_t after_address = address << 1;
     // Every address has a value right after it, and every value an address
     // right before it; a sign only first in a value, and a digit or a point

@@ -24,18 +24,16 @@ constexpr char kAddress[] = {'X', 'Y', 'Z', 'F', 'G'};
 constexpr size_t kSlots = 5;
 constexpr uint32_t kNone = UINT32_MAX;
 
-// Where a line's words start (the address letter), by slot of kAddress, in
-// the order met.
-struct LineWords {
-    std::array<std::pair<uint8_t, uint32_t>, PlainMove::kMaxWords> words;
-    size_t count = 0;
-};
+// Where the last word of each address of a line starts (the address
+// letter), by slot of kAddress; kNone where it has none.
+using LineWords = std::array<uint32_t, kSlots>;
 
 // The byte-by-byte check of the line at p: whether it is a plain move of the
 // strictest shape (blanks, then X Y Z F words `X-12.5` and G0 to G3, glued
 // or separated by spaces), whole in s[0, n); sets `end` to its terminator.
 bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) {
-    out.count = 0;
+    out.fill(kNone);
+    bool words = false;
     size_t q = p;
     while (true) {
         while (q < n && s[q] == ' ') ++q;
@@ -44,7 +42,7 @@ bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) 
         if (c == '\n' || c == '\r') break;
         size_t slot = 0;
         while (slot < kSlots && kAddress[slot] != c) ++slot;
-        if (slot == kSlots || out.count == PlainMove::kMaxWords) return false;
+        if (slot == kSlots) return false;
         const size_t begin = q++;
         if (slot != 4 && q < n && (s[q] == '+' || s[q] == '-')) ++q;
         size_t digits = 0;
@@ -59,9 +57,10 @@ bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) 
         if (digits == 0 || digits > 15 || q >= n ||
             !(s[q] == ' ' || s[q] == '\n' || s[q] == '\r' || (s[q] >= 'A' && s[q] <= 'Z')))
             return false;
-        out.words[out.count++] = {static_cast<uint8_t>(slot), static_cast<uint32_t>(begin)};
+        out[slot] = static_cast<uint32_t>(begin);
+        words = true;
     }
-    if (out.count == 0 || q - p > kMaxLineLength) return false;
+    if (!words || q - p > kMaxLineLength) return false;
     end = q;
     return true;
 }
@@ -102,7 +101,7 @@ FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32
         QuickLine line;
         if (n - p > 32) {
             const int e = quick_line_end(s + p);
-            if (e >= 0 && quick_line(s + p, e, static_cast<int>(PlainMove::kMaxWords), line)) {
+            if (e >= 0 && quick_line(s + p, e, line)) {
                 q = p + static_cast<size_t>(e);
                 quick = true;
             }
@@ -124,7 +123,8 @@ FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32
                 if (masks[k]) last[k] = static_cast<uint32_t>(p) + static_cast<uint32_t>(63 - __builtin_clzll(masks[k]));
         } else
 #endif
-            for (size_t k = 0; k < words.count; ++k) last[words.words[k].first] = words.words[k].second;
+            for (size_t k = 0; k < kSlots; ++k)
+                if (words[k] != kNone) last[k] = words[k];
         line_read(p);
         run.last_start = p;
         ++run.lines;
