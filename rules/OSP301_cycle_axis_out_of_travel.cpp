@@ -99,7 +99,7 @@ public:
     }
 
 private:
-    static std::string fmt_move(const TravelViolation& t) {
+    static std::string fmt_move(const AxisPastTravel& t) {
         return "this block moves " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
                motion_number(std::fabs(t.value - t.limit)) + (t.below ? " below" : " above");
     }

@@ -21,6 +21,7 @@
 // direction of that axis in every plane.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -165,11 +166,26 @@ struct TravelViolation {
 // inferred or a compensated contour is `inferred`, with its `note`.
 std::vector<TravelViolation> travel_violations(const Envelope& env, const Config& config);
 
+// An axis a plain positioning block moves to outside the configured travel.
+struct AxisPastTravel {
+    char axis = 0;
+    double value = 0;    // the position reached
+    double limit = 0;    // the limit it passes
+    bool below = false;  // below the minimum (else above the maximum)
+};
+// At most one per axis X, Y, Z, in the order of the block's words: a fixed
+// array, since a wrong work offset puts every move of a program here.
+struct AxesPastTravel {
+    std::array<AxisPastTravel, 3> axes;
+    size_t count = 0;
+    const AxisPastTravel* begin() const { return axes.data(); }
+    const AxisPastTravel* end() const { return axes.data() + count; }
+};
+
 // A plain positioning block (no macro, no hole): the axes it moves to outside
-// the configured travel (`what` left empty: `axis` and `value` say it).
-std::vector<TravelViolation> positioning_violations(const Block& block, const ModalState& before,
-                                                    const ModalState& after, const MacroCall* call,
-                                                    const Config& config);
+// the configured travel.
+AxesPastTravel positioning_violations(const Block& block, const ModalState& before, const ModalState& after,
+                                      const MacroCall* call, const Config& config);
 
 // A number as the trace and the messages print it: at most 4 decimals, no trailing zeros.
 std::string motion_number(double v);

@@ -100,9 +100,9 @@ std::vector<TravelViolation> travel_violations(const Envelope& env, const Config
     return out;
 }
 
-std::vector<TravelViolation> positioning_violations(const Block& b, const ModalState& before, const ModalState& after,
-                                                    const MacroCall* call, const Config& config) {
-    std::vector<TravelViolation> out;
+AxesPastTravel positioning_violations(const Block& b, const ModalState& before, const ModalState& after,
+                                      const MacroCall* call, const Config& config) {
+    AxesPastTravel out;
     if (b.kind != LineKind::Block || config.travel.empty()) return out;
     if (call && call->kind != CallKind::GCode) return out;  // macros: see their envelopes
     if (call && call->spec && !is_cycle_macro(*call->spec)) return out;
@@ -121,10 +121,8 @@ std::vector<TravelViolation> positioning_violations(const Block& b, const ModalS
         auto it = config.travel.find(a);
         Val<double> v = after.axis(a);
         if (it == config.travel.end() || !v.known) continue;
-        // No `what`: the axis and the value say where the block goes (a wrong
-        // work offset puts every move here, and most are only counted).
-        if (v.value < it->second.min) out.push_back({a, v.value, it->second.min, true, "", false, w.address, -1, ""});
-        else if (v.value > it->second.max) out.push_back({a, v.value, it->second.max, false, "", false, w.address, -1, ""});
+        if (v.value < it->second.min) out.axes[out.count++] = {a, v.value, it->second.min, true};
+        else if (v.value > it->second.max) out.axes[out.count++] = {a, v.value, it->second.max, false};
     }
     return out;
 }
