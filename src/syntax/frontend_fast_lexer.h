@@ -5,6 +5,8 @@
 //   frontend_fast_parser.h     the parser's state and utilities (FastLineParser::Impl)
 //   frontend_fast.cpp          block items, the line prefix, whole lines
 //   frontend_fast_expr.cpp     expressions
+//   frontend_fast_run.cpp      runs of plain moves (plain_run), with the quick
+//                              check of frontend_fast_quick.h
 //   frontend_fast_block.cpp    offsets of a block, the tree-sitter fallback
 //                              for one line, dump_block, parse_program_file_fast
 #pragma once

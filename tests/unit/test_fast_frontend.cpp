@@ -11,6 +11,8 @@
 #include <cctype>
 #include <cstring>
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -526,9 +528,9 @@ TEST_CASE("fast front end: plain_run reads the lines of the strictest plain-move
         const char* terminator = i % 3 == 0 ? "\n" : i % 3 == 1 ? "\r\n" : "\r";
         std::vector<PlainMoveWord> want;
         const bool plain = strict_plain_move(line, want);
-        // The line with 40 bytes of another line after it (the quick check
+        // The line with 80 bytes of another line after it (the quick check
         // when it is short), and with one byte after it (byte by byte).
-        for (const std::string& after : {std::string("M30") + std::string(40, ' '), std::string("M")}) {
+        for (const std::string& after : {std::string("M30") + std::string(80, ' '), std::string("M")}) {
             const std::string text = line + terminator + after;
             const auto run = p.plain_run(text, 100, 10, UINT64_MAX, UINT64_MAX, [](size_t) {});
             REQUIRE_MESSAGE(run.lines == (plain ? 1u : 0u), "'" << line << "'");
@@ -555,9 +557,48 @@ TEST_CASE("fast front end: plain_run reads the lines of the strictest plain-move
     CHECK(taken > 100000);
     CHECK(quick > 50000);
 
+    // Runs of random lines, most of them plain moves, with different
+    // terminators: the run ends before the first line of another shape.
+    for (int i = 0; i < 20000; ++i) {
+        std::string text;
+        std::vector<size_t> starts;
+        std::vector<std::string> lines;
+        const int count = 1 + static_cast<int>(rng() % 12);
+        for (int k = 0; k < count; ++k) {
+            starts.push_back(text.size());
+            lines.push_back(random_move_line(rng));
+            text += lines.back();
+            text += k % 4 == 3 ? "\r\n" : k % 5 == 4 ? "\r" : "\n";
+        }
+        text += "M30" + std::string(80, ' ');
+        size_t plain = 0;
+        std::array<std::optional<PlainMoveWord>, 5> last;
+        for (; plain < lines.size(); ++plain) {
+            std::vector<PlainMoveWord> words;
+            if (!strict_plain_move(lines[plain], words)) break;
+            for (PlainMoveWord w : words) {
+                w.range = {static_cast<uint32_t>(w.range.begin - 100 + 1000 + starts[plain]),
+                           static_cast<uint32_t>(w.range.end - 100 + 1000 + starts[plain])};
+                last[std::string("XYZFG").find(w.address)] = w;
+            }
+        }
+        const auto run = p.plain_run(text, 1000, 100, UINT64_MAX, UINT64_MAX, [](size_t) {});
+        REQUIRE_MESSAGE(run.lines == plain, text);
+        size_t k = 0;
+        for (const auto& w : last) {
+            if (!w) continue;
+            REQUIRE_MESSAGE(k < run.last.count, text);
+            CHECK_MESSAGE(run.last.words[k].address == w->address, text);
+            CHECK_MESSAGE(run.last.words[k].number == w->number, text);
+            CHECK_MESSAGE(run.last.words[k].range == w->range, text);
+            ++k;
+        }
+        CHECK_MESSAGE(run.last.count == k, text);
+    }
+
     // Several lines at once: the last word of each address over them, up to
     // the first line of another shape.
-    const std::string text = "X1. Y2. Z3.\r\nX-4.5 F300\nG2 Y.5\nZ-0.25\nM30\n" + std::string(40, ' ');
+    const std::string text = "X1. Y2. Z3.\r\nX-4.5 F300\nG2 Y.5\nZ-0.25\nM30\n" + std::string(80, ' ');
     std::vector<size_t> starts;
     const auto run = p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, [&](size_t s) { starts.push_back(s); });
     CHECK(run.lines == 4);
