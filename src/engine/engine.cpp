@@ -678,10 +678,10 @@ uint32_t Walk::skim_run(uint32_t index, uint64_t start_limit) {
     const uint64_t end_limit = std::min<uint64_t>(flow_.end(), kMaxInputSize + 1);
     const std::string_view text = main_.buffered();
     const uint32_t first_line = main_.next_line();
-    uint32_t read = 0;
-    const auto run = parser_.plain_run(text, at, max_lines, start_limit, end_limit, [&](size_t start) {
-        positions_.note_line(LineRef{{}, {}, first_line + read++, at + static_cast<uint32_t>(start)});
-    });
+    const auto run = parser_.plain_run(text, at, max_lines, start_limit, end_limit, first_line,
+                                       Positions::kCheckpointLines, [&](size_t start, uint32_t line) {
+                                           positions_.note_line(LineRef{{}, {}, line, at + static_cast<uint32_t>(start)});
+                                       });
     if (run.lines == 0) return 0;
     main_.skip_buffered(run.bytes, run.lines, run.last_start);
     partial_ = nullptr;

@@ -105,10 +105,12 @@ public:
     // Reads such lines from the start of `text` (at offset `base` of the
     // file), whole lines only: at most `max_lines`, each starting before
     // `start_limit` and ending, terminator included, before `end_limit`
-    // (offsets of the file). Stops before any other line. `line_read(start)`
-    // is told the start (in `text`) of each line read.
+    // (offsets of the file). Stops before any other line. The first line is
+    // line `first_line`; `every_nth(start, line)` is told the start (in
+    // `text`) of each line read whose number is a multiple of `nth`.
     PlainRun plain_run(std::string_view text, uint32_t base, uint32_t max_lines, uint64_t start_limit,
-                       uint64_t end_limit, FunctionRef<void(size_t)> line_read);
+                       uint64_t end_limit, uint32_t first_line, uint32_t nth,
+                       FunctionRef<void(size_t, uint32_t)> every_nth);
 
     // Whether the last line parsed is a plain move (analyzer.h:
     // is_plain_move_block) of the simplest shape: glued literal words only. A

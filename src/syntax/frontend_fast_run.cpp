@@ -86,7 +86,8 @@ PlainMoveWord read_word(const char* s, uint32_t begin, uint32_t base, size_t slo
 
 FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32_t base, uint32_t max_lines,
                                                    uint64_t start_limit, uint64_t end_limit,
-                                                   FunctionRef<void(size_t)> line_read) {
+                                                   uint32_t first_line, uint32_t nth,
+                                                   FunctionRef<void(size_t, uint32_t)> every_nth) {
     std::array<uint32_t, kSlots> last;  // where the last word of each address starts
     last.fill(kNone);
     const char* const s = text.data();
@@ -94,6 +95,7 @@ FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32
     PlainRun run;
     LineWords words;
     size_t p = 0;
+    uint32_t to_nth = (nth - first_line % nth) % nth;  // lines to go to the next multiple of nth
     while (run.lines < max_lines && base + p < start_limit) {
         size_t q = 0;
         bool quick = false;  // quick_line took it
@@ -125,7 +127,11 @@ FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32
 #endif
             for (size_t k = 0; k < kSlots; ++k)
                 if (words[k] != kNone) last[k] = words[k];
-        line_read(p);
+        if (to_nth == 0) {
+            every_nth(p, first_line + run.lines);
+            to_nth = nth;
+        }
+        --to_nth;
         run.last_start = p;
         ++run.lines;
         p = next;

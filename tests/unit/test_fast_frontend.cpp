@@ -532,7 +532,7 @@ TEST_CASE("fast front end: plain_run reads the lines of the strictest plain-move
         // when it is short), and with one byte after it (byte by byte).
         for (const std::string& after : {std::string("M30") + std::string(80, ' '), std::string("M")}) {
             const std::string text = line + terminator + after;
-            const auto run = p.plain_run(text, 100, 10, UINT64_MAX, UINT64_MAX, [](size_t) {});
+            const auto run = p.plain_run(text, 100, 10, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {});
             REQUIRE_MESSAGE(run.lines == (plain ? 1u : 0u), "'" << line << "'");
             if (!plain) continue;
             ++taken;
@@ -582,7 +582,7 @@ TEST_CASE("fast front end: plain_run reads the lines of the strictest plain-move
                 last[std::string("XYZFG").find(w.address)] = w;
             }
         }
-        const auto run = p.plain_run(text, 1000, 100, UINT64_MAX, UINT64_MAX, [](size_t) {});
+        const auto run = p.plain_run(text, 1000, 100, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {});
         REQUIRE_MESSAGE(run.lines == plain, text);
         size_t k = 0;
         for (const auto& w : last) {
@@ -600,9 +600,23 @@ TEST_CASE("fast front end: plain_run reads the lines of the strictest plain-move
     // the first line of another shape.
     const std::string text = "X1. Y2. Z3.\r\nX-4.5 F300\nG2 Y.5\nZ-0.25\nM30\n" + std::string(80, ' ');
     std::vector<size_t> starts;
-    const auto run = p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, [&](size_t s) { starts.push_back(s); });
+    std::vector<uint32_t> numbers;
+    const auto run = p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, 7, 1, [&](size_t s, uint32_t line) {
+        starts.push_back(s);
+        numbers.push_back(line);
+    });
     CHECK(run.lines == 4);
     CHECK(starts == std::vector<size_t>{0, 13, 24, 31});
+    CHECK(numbers == std::vector<uint32_t>{7, 8, 9, 10});
+    // Only the lines whose number is a multiple of the step are told.
+    starts.clear();
+    numbers.clear();
+    p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, 7, 2, [&](size_t s, uint32_t line) {
+        starts.push_back(s);
+        numbers.push_back(line);
+    });
+    CHECK(starts == std::vector<size_t>{13, 31});
+    CHECK(numbers == std::vector<uint32_t>{8, 10});
     CHECK(run.last_start == 31);
     CHECK(run.bytes == 38);
     REQUIRE(run.last.count == 5);
