@@ -207,6 +207,7 @@ void Walk::walk_blocks() {
         converge_if_due();
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
+        if (rules_idle() && skim_run(kRunLines, flow_.end())) continue;
         if (!read(b, line, moves_with_rules() && plain_may_apply())) break;
         uint32_t extent = 0;
         if (flow_.has_flow() && loop_head(b, line.start, extent)) {
@@ -344,7 +345,7 @@ bool Walk::first_sweep(uint32_t index, uint32_t& extent, HeldLoop* held) {
             if (const size_t i = ahead_in_loop(); i != kNone && sweep_converges(i, extent, index)) return true;
         mark_loop(extent, index);
         if (!(held && held->holding))
-            if (const uint32_t k = skim_run(index, uint64_t(extent) + 1)) {
+            if (const uint32_t k = skim_run(probe_gap(index), uint64_t(extent) + 1)) {
                 index += k - 1;
                 continue;
             }
@@ -418,7 +419,7 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
                 take_loop_checkpoint();
         }
         if (mode == Mode::Iterate) {
-            if (const uint32_t k = skim_run(index, end)) {
+            if (const uint32_t k = skim_run(probe_gap(index), end)) {
                 index += k - 1;
                 continue;
             }
@@ -429,6 +430,11 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
             visit(b, line, mode);
             continue;
         }
+        if (rules_idle())
+            if (const uint32_t k = skim_run(kRunLines, end)) {
+                index += k - 1;
+                continue;
+            }
         if (!read(b, line, moves_with_rules() && plain_may_apply())) break;
         visit(b, line, mode);
     }
@@ -659,17 +665,18 @@ bool Walk::skim(const LineRef& line) {
 }
 
 // skim over a run of plain moves at once (FastLineParser::plain_run), in a
-// sweep without the rules of a batch analysis: the lines from the next one
-// on, while each is a plain move skim would apply, up to the block before
-// `start_limit`, the next probe (`index` is the next block's) and the next
-// block a loop edge or a loop head makes a join. Returns the blocks read.
-uint32_t Walk::skim_run(uint32_t index, uint64_t start_limit) {
-    if (!runs_ok_ || !plain_ok_ || !reachable_ || !plain_move_state(*A_)) return 0;
+// batch analysis: in a sweep without the rules, or in the walk with them
+// while no rule looks at plain moves (rules_idle): the lines from the next
+// one on, while each is a plain move skim would apply, up to `max_lines`,
+// the block before `start_limit` and the next block a loop edge or a loop
+// head makes a join. Returns the blocks read.
+uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit) {
+    if (max_lines == 0 || !runs_ok_ || !plain_ok_ || !reachable_ || !plain_move_state(*A_)) return 0;
     // Only the last word of each address counts in absolute mode or an
     // unknown one; in incremental mode each move adds to the position.
     if (A_->distance.known && A_->distance.value != Distance::Absolute) return 0;
-    if (index % kProbeBlocks == 0) return 0;  // converged() looks at that block
-    const uint32_t max_lines = kProbeBlocks - index % kProbeBlocks;
+    // A run ends where fetch would look at the cancel flag (every 1024th line).
+    if (options_.cancel) max_lines = std::min<uint32_t>(max_lines, 1024 - (walked_ & 1023));
     const uint64_t from = main_.next_offset();
     if (from >= UINT32_MAX) return 0;
     const uint32_t at = static_cast<uint32_t>(from);
@@ -705,6 +712,15 @@ void Walk::read_whole(const Block& b, const LineRef& line) {
     if (&b != partial_) return;
     parser_.parse(line, *partial_);
     partial_ = nullptr;
+}
+
+// Whether the rules would do nothing on the plain moves to come, which
+// carry no sequence name: none looks at plain moves, or none wants them now
+// (Rule::wants_plain_moves, which changes only when a rule sees a block).
+bool Walk::rules_idle() const {
+    for (const Rule* r : plain_rules_)
+        if (r->wants_plain_moves()) return false;
+    return true;
 }
 
 void Walk::check(const BlockView& view, const LineRef& line, bool plain) {

@@ -295,7 +295,14 @@ private:
     // In a sweep without the rules: a plain move applied from its values
     // alone, without a block; false for any other line (it is then parsed).
     bool skim(const LineRef& line);
-    uint32_t skim_run(uint32_t index, uint64_t start_limit);
+    uint32_t skim_run(uint32_t max_lines, uint64_t start_limit);
+    // The most lines skim_run may read in a sweep from its `index`-th block:
+    // up to the next probe (converged() looks at that block).
+    static uint32_t probe_gap(uint32_t index) {
+        return index % kProbeBlocks == 0 ? 0 : kProbeBlocks - index % kProbeBlocks;
+    }
+    static constexpr uint32_t kRunLines = 1u << 16;  // ... in the walk with the rules
+    bool rules_idle() const;
     // Whether skim_run may read past lines: not for the language server's
     // checkpoints (taken at blocks: mark_loop) or an analysis that may end early.
     bool runs_ok_ = false;

@@ -1388,3 +1388,42 @@ TEST_CASE("engine: long runs of plain moves in a loop read again give the refere
     }
     CHECK(run_blocks > 10000);
 }
+
+TEST_CASE("engine: while no rule looks at plain moves, the walk with the rules reads them a run at a time") {
+    // With no travel limits, OSP004 looks at plain moves until the program's
+    // content starts and OSP212 while a G114 cancel has stopped the spindle:
+    // between those, the walk with the rules reads runs of moves at once, and
+    // must find what a walk that shows every rule every block finds, the cut
+    // after a stop in the middle of a run included.
+    const Config config;
+    std::mt19937 rng(5150);
+    uint64_t run_blocks = 0;
+    for (int i = 0; i < 8; ++i) {
+        std::string text = i % 2 ? "O2000\n" : "";
+        text += "G90 G0 X0 Y0 Z50.\nS800 M3\n";
+        for (int part = 0; part < 6; ++part) {
+            const int n = 200 + static_cast<int>(rng() % 3000);
+            for (int k = 0; k < n; ++k) {
+                text += "X" + std::to_string(rng() % 400) + "." + std::to_string(rng() % 10) + " Y" +
+                        std::to_string(rng() % 300) + (rng() % 2 ? ". Z-1.\n" : ".\n");
+                if (rng() % 997 == 0) text += "N" + std::to_string(10 + rng() % 5) + " G1 X1. Y1. F300\n";
+            }
+            switch (rng() % 4) {
+                case 0: text += "G114 R10 Z-21.5 F1200 FA=1300\nX10 Y10\nM204\nG1 Z-5 F200\nS800 M3\n"; break;
+                case 1: text += "G114 R10 Z-21.5 F1200 FA=1300\nX10 Y10\nM204\n"; break;  // stopped for the next moves
+                case 2: text += "S800 M3\n"; break;
+                default: text += "VC1=0\nN500 G0 Z2.\nVC1=VC1+1\nIF [VC1 LT 3] N500\n"; break;
+            }
+        }
+        text += "M30\n";
+        compare_checks("idle" + std::to_string(i) + ".min", text, config);
+        EngineStats st;
+        AnalysisOptions options;
+        options.stats = &st;
+        const FileResult r = check_text("idle.min", text, config, options);
+        CHECK(st.run_blocks > 0);
+        CHECK(st.run_blocks < st.transfers);
+        run_blocks += st.run_blocks;
+    }
+    CHECK(run_blocks > 20000);
+}
