@@ -671,7 +671,14 @@ bool Walk::skim(const LineRef& line) {
 // the block before `start_limit` and the next block a loop edge or a loop
 // head makes a join. Returns the blocks read.
 uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit) {
-    if (max_lines == 0 || !runs_ok_ || !plain_ok_ || !reachable_ || !plain_move_state(*A_)) return 0;
+    if (max_lines == 0 || !runs_ok_) return 0;
+    const std::string_view text = main_.buffered();
+    // Most other lines are told by their first word (a sequence name, a
+    // comment, a keyword): the walk tries a run at every such line.
+    size_t first = 0;
+    while (first < text.size() && text[first] == ' ') ++first;
+    if (first == text.size() || std::string_view("XYZFG").find(text[first]) == std::string_view::npos) return 0;
+    if (!plain_ok_ || !reachable_ || !plain_move_state(*A_)) return 0;
     // Only the last word of each address counts in absolute mode or an
     // unknown one; in incremental mode each move adds to the position.
     if (A_->distance.known && A_->distance.value != Distance::Absolute) return 0;
@@ -683,7 +690,6 @@ uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit) {
     start_limit = std::min<uint64_t>({start_limit, flow_.end(), pending_offset_.next_at(at), flow_.next_loop_head(at)});
     // The last block of the program brings the final state (plain_done); fetch refuses a line past kMaxInputSize.
     const uint64_t end_limit = std::min<uint64_t>(flow_.end(), kMaxInputSize + 1);
-    const std::string_view text = main_.buffered();
     const uint32_t first_line = main_.next_line();
     const auto run = parser_.plain_run(text, at, max_lines, start_limit, end_limit, first_line,
                                        Positions::kCheckpointLines, [&](size_t start, uint32_t line) {
