@@ -29,7 +29,7 @@ constexpr uint32_t kNone = UINT32_MAX;
 using LineWords = std::array<uint32_t, kSlots>;
 
 // The byte-by-byte check of the line at p: whether it is a plain move of the
-// strictest shape (blanks, then X Y Z F words `X-12.5` and G0 to G3, glued
+// strictest shape (spaces, then X Y Z F words `X-12.5` and G0 to G3, glued
 // or separated by spaces), whole in s[0, n); sets `end` to its terminator.
 bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) {
     out.fill(kNone);
@@ -64,7 +64,6 @@ bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) 
     end = q;
     return true;
 }
-
 
 // The value of the word whose address is at s[begin], accepted by line_words.
 PlainMoveWord read_word(const char* s, uint32_t begin, uint32_t base, size_t slot) {
