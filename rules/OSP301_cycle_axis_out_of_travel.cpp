@@ -60,8 +60,8 @@ public:
                     if (w.address.size() == 1 && w.address[0] == t.axis) where = w.range;
                 // A wrong offset puts every move out of travel: after the first
                 // few of a kind, the others are only counted (engine/fold.h).
-                const char key[] = {'P', t.axis, t.below ? '-' : '+', '\0'};
-                if (ctx.folded(kMeta, key, where)) continue;
+                const char key[] = {'P', t.axis, t.below ? '-' : '+'};
+                if (ctx.folded(kMeta, std::string_view(key, sizeof key), where)) continue;
                 auto& d = ctx.report(kMeta, where,
                                      fmt_move(t) + " the " + std::string(1, t.axis) + " travel " +
                                          (t.below ? "minimum " : "maximum ") + motion_number(t.limit));

@@ -41,12 +41,17 @@ uint64_t keyed_kind(std::string_view rule, std::string_view key) {
 
 Folder::Verdict Folder::next(uint64_t kind, ByteRange range) {
     if (keep_ == 0) return Verdict::Show;
-    auto it = kinds_.find(kind);
-    if (it == kinds_.end()) {
-        if (kinds_.size() >= kMaxKinds) return Verdict::Show;
-        it = kinds_.emplace(kind, Kind{}).first;
+    if (last_ == kNoSlot || last_kind_ != kind) {
+        auto it = index_.find(kind);
+        if (it == index_.end()) {
+            if (kinds_.size() >= kMaxKinds) return Verdict::Show;
+            it = index_.emplace(kind, static_cast<uint32_t>(kinds_.size())).first;
+            kinds_.emplace_back();
+        }
+        last_kind_ = kind;
+        last_ = it->second;
     }
-    Kind& k = it->second;
+    Kind& k = kinds_[last_];
     if (k.shown < keep_) {
         ++k.shown;
         return Verdict::Show;
@@ -63,7 +68,7 @@ Folder::Verdict Folder::next(uint64_t kind, ByteRange range) {
     return Verdict::Count;
 }
 
-void Folder::hold(uint64_t kind, Diagnostic&& d) { kinds_[kind].held = std::move(d); }
+void Folder::hold(uint64_t kind, Diagnostic&& d) { kinds_[index_.at(kind)].held = std::move(d); }
 
 void Folder::annotate(Diagnostic& d, uint64_t counted, const SourceRange& last) {
     d.folded = counted;

@@ -50,14 +50,16 @@ public:
     std::vector<Diagnostic> finish(Resolve&& resolve) {
         std::vector<Diagnostic> out;
         for (uint64_t kind : order_) {
-            Kind& k = kinds_[kind];
+            Kind& k = kinds_[index_.at(kind)];
             if (!k.held) continue;
             Diagnostic d = std::move(*k.held);
             if (k.counted) annotate(d, k.counted, resolve(kind, k.last));
             out.push_back(std::move(d));
         }
         kinds_.clear();
+        index_.clear();
         order_.clear();
+        last_ = kNoSlot;
         return out;
     }
     // Findings folded into representatives so far (not shown on their own).
@@ -77,8 +79,14 @@ private:
     static void annotate(Diagnostic& d, uint64_t counted, const SourceRange& last);
 
     uint64_t keep_;
-    std::unordered_map<uint64_t, Kind> kinds_;
+    std::vector<Kind> kinds_;                       // in the order first met
+    std::unordered_map<uint64_t, uint32_t> index_;  // kind -> its place in kinds_
     std::vector<uint64_t> order_;
+    // The kind of the last call of next() and its place: a rule that reports
+    // on every move reports the same kind again and again.
+    static constexpr uint32_t kNoSlot = UINT32_MAX;
+    uint64_t last_kind_ = 0;
+    uint32_t last_ = kNoSlot;
     uint64_t folded_ = 0;
 };
 

@@ -28,6 +28,7 @@
 #include "api/config.h"
 #include "support/errors.h"
 #include "support/io.h"
+#include "engine/fold.h"
 #include "engine/positions.h"
 #include "engine/record.h"
 #include "engine/summaries.h"
@@ -1426,4 +1427,56 @@ TEST_CASE("engine: while no rule looks at plain moves, the walk with the rules r
         run_blocks += st.run_blocks;
     }
     CHECK(run_blocks > 20000);
+}
+
+TEST_CASE("Folder: verdicts and representatives on runs and interleavings of kinds, copied midway") {
+    // The model: of each kind, `keep` shown, the next held, the others
+    // counted with the range of the last; representatives in the order held.
+    std::mt19937 rng(31337);
+    for (int round = 0; round < 50; ++round) {
+        const uint64_t keep = 1 + rng() % 4;
+        Folder folder(keep);
+        std::optional<Folder> copy;
+        std::map<uint64_t, uint64_t> seen;
+        std::map<uint64_t, uint32_t> last;
+        std::vector<uint64_t> held_order;
+        const int n = 200 + static_cast<int>(rng() % 400);
+        uint64_t kind = 1;
+        for (int i = 0; i < n; ++i) {
+            if (rng() % 4 == 0) kind = 1 + rng() % 6;  // runs of one kind, switches between a few
+            const ByteRange r{static_cast<uint32_t>(i), static_cast<uint32_t>(i + 1)};
+            const uint64_t nth = seen[kind]++;
+            const Folder::Verdict want = nth < keep    ? Folder::Verdict::Show
+                                         : nth == keep ? Folder::Verdict::Hold
+                                                       : Folder::Verdict::Count;
+            const Folder::Verdict got = folder.next(kind, r);
+            REQUIRE(got == want);
+            if (copy) REQUIRE(copy->next(kind, r) == want);
+            if (got == Folder::Verdict::Hold) {
+                held_order.push_back(kind);
+                Diagnostic d;
+                d.message = std::to_string(kind);
+                if (copy) copy->hold(kind, Diagnostic(d));
+                folder.hold(kind, std::move(d));
+            }
+            if (nth >= keep) last[kind] = r.begin;
+            if (i == n / 2) copy.emplace(folder);  // the walk copies its folder (speculation, checkpoints)
+        }
+        for (Folder* f : {&folder, &*copy}) {
+            std::vector<uint64_t> order;
+            for (const Diagnostic& d : f->finish([](uint64_t, ByteRange r) {
+                     SourceRange s;
+                     s.start.line = r.begin;
+                     return s;
+                 })) {
+                const uint64_t k = std::stoull(d.message);
+                order.push_back(k);
+                CHECK(d.folded == seen[k] - keep - 1);
+                if (d.folded) CHECK((d.folded_last && d.folded_last->start.line == last[k]));
+            }
+            CHECK(order == held_order);
+        }
+        // A finished folder starts over.
+        CHECK(folder.next(1, {0, 1}) == Folder::Verdict::Show);
+    }
 }
