@@ -52,9 +52,10 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Config& config = ctx.config();
         if (config.travel.empty()) return;
-        std::optional<Envelope> env = cycle_envelope(v, config);
+        // A plain move runs no macro and drills no hole: no envelope.
+        std::optional<Envelope> env = v.plain_move ? std::nullopt : cycle_envelope(v, config);
         if (!env) {
-            for (const auto& t : positioning_violations(v.block, v.before, v.after, v.call, config)) {
+            for (const auto& t : positioning_violations(v, config)) {
                 ByteRange where = v.block.range;
                 for (const auto& w : v.block.words)
                     if (w.address.size() == 1 && w.address[0] == t.axis) where = w.range;

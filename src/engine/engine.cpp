@@ -612,7 +612,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     if (plain_ok_ && (plain_line || is_plain_move_block(b)) && plain_move_state(*A_)) {
         // A plain move (semantics/transfer.h).
         apply_plain_move(b, plain_after());
-        if (rules) check(BlockView{b, *A_, *B_, nullptr, true}, line, true);
+        if (rules) check(BlockView{b, *A_, *B_, nullptr, true, true}, line, true);
         plain_done(line);
         return;
     }

@@ -93,6 +93,10 @@ struct BlockView {
     const ModalState& after;   // state after the block
     const MacroCall* call;     // nullptr when the block invokes no subprogram or macro
     bool reachable = true;     // false for blocks no path from the program start reaches
+    // A plain move in a plain-move state (semantics/transfer.h), as the engine
+    // knows it: a hint that spares a rule its own checks; what a rule finds
+    // must not depend on it (the differential tests leave it unset).
+    bool plain_move = false;
 };
 
 }  // namespace osplint

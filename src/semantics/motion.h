@@ -183,9 +183,8 @@ struct AxesPastTravel {
 };
 
 // A plain positioning block (no macro, no hole): the axes it moves to outside
-// the configured travel.
-AxesPastTravel positioning_violations(const Block& block, const ModalState& before, const ModalState& after,
-                                      const MacroCall* call, const Config& config);
+// the configured travel. A block the view says is a plain move is one.
+AxesPastTravel positioning_violations(const BlockView& v, const Config& config);
 
 // A number as the trace and the messages print it: at most 4 decimals, no trailing zeros.
 std::string motion_number(double v);

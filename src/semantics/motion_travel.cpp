@@ -100,29 +100,36 @@ std::vector<TravelViolation> travel_violations(const Envelope& env, const Config
     return out;
 }
 
-AxesPastTravel positioning_violations(const Block& b, const ModalState& before, const ModalState& after,
-                                      const MacroCall* call, const Config& config) {
+AxesPastTravel positioning_violations(const BlockView& v, const Config& config) {
+    const Block& b = v.block;
+    const ModalState& before = v.before;
+    const ModalState& after = v.after;
+    const MacroCall* call = v.call;
     AxesPastTravel out;
     if (b.kind != LineKind::Block || config.travel.empty()) return out;
-    if (call && call->kind != CallKind::GCode) return out;  // macros: see their envelopes
-    if (call && call->spec && !is_cycle_macro(*call->spec)) return out;
-    if (is_cycle_hole(b, before, after, call)) return out;  // holes: see their envelopes
-    if (non_motion_block(b) || b.statement(StmtKind::Call) || b.statement(StmtKind::Modin)) return out;
+    // A plain move calls nothing, is no hole (no cycle is modal) and moves.
+    if (!v.plain_move) {
+        if (call && call->kind != CallKind::GCode) return out;  // macros: see their envelopes
+        if (call && call->spec && !is_cycle_macro(*call->spec)) return out;
+        if (is_cycle_hole(b, before, after, call)) return out;  // holes: see their envelopes
+        if (non_motion_block(b) || b.statement(StmtKind::Call) || b.statement(StmtKind::Modin)) return out;
+    }
     const bool in_cycle = after.cycle.known && after.cycle.value;
-    const char cyc = before.plane.known ? plane_axes(before.plane.value).cycle : 0;
+    const char cyc = in_cycle && before.plane.known ? plane_axes(before.plane.value).cycle : 0;
     unsigned seen = 0;  // X, Y, Z: bits 0, 1, 2
     for (const auto& w : b.words) {
-        if (!is_axis_letter(w.address)) continue;
-        char a = w.address[0];
+        if (w.address.size() != 1) continue;
+        const char a = w.address[0];
+        if (a < 'X' || a > 'Z') continue;
         if (in_cycle && a == cyc) continue;  // a cycle depth, not a move
         const unsigned bit = 1u << (a - 'X');
         if (seen & bit) continue;
         seen |= bit;
         auto it = config.travel.find(a);
-        Val<double> v = after.axis(a);
-        if (it == config.travel.end() || !v.known) continue;
-        if (v.value < it->second.min) out.axes[out.count++] = {a, v.value, it->second.min, true};
-        else if (v.value > it->second.max) out.axes[out.count++] = {a, v.value, it->second.max, false};
+        const Val<double> pos = after.axis(a);
+        if (it == config.travel.end() || !pos.known) continue;
+        if (pos.value < it->second.min) out.axes[out.count++] = {a, pos.value, it->second.min, true};
+        else if (pos.value > it->second.max) out.axes[out.count++] = {a, pos.value, it->second.max, false};
     }
     return out;
 }
