@@ -56,10 +56,6 @@ bool is_any_axis(std::string_view a) {
     return a.size() == 1 && std::string_view("XYZABCUVW").find(a[0]) != std::string_view::npos;
 }
 
-bool is_axis_letter(std::string_view a) {
-    return a.size() == 1 && (a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z');
-}
-
 std::optional<double> travel_max(const Config& c, char axis) {
     if (auto it = c.travel.find(axis); it != c.travel.end()) return it->second.max;
     return std::nullopt;

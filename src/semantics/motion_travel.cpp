@@ -118,9 +118,8 @@ AxesPastTravel positioning_violations(const BlockView& v, const Config& config) 
     const char cyc = in_cycle && before.plane.known ? plane_axes(before.plane.value).cycle : 0;
     unsigned seen = 0;  // X, Y, Z: bits 0, 1, 2
     for (const auto& w : b.words) {
-        if (w.address.size() != 1) continue;
+        if (!is_axis_letter(w.address)) continue;
         const char a = w.address[0];
-        if (a < 'X' || a > 'Z') continue;
         if (in_cycle && a == cyc) continue;  // a cycle depth, not a move
         const unsigned bit = 1u << (a - 'X');
         if (seen & bit) continue;
