@@ -56,9 +56,7 @@ public:
         std::optional<Envelope> env = v.plain_move ? std::nullopt : cycle_envelope(v, config);
         if (!env) {
             for (const auto& t : positioning_violations(v, config)) {
-                ByteRange where = v.block.range;
-                for (const auto& w : v.block.words)
-                    if (w.address.size() == 1 && w.address[0] == t.axis) where = w.range;
+                const ByteRange where = t.word;
                 // A wrong offset puts every move out of travel: after the first
                 // few of a kind, the others are only counted (engine/fold.h).
                 const char key[] = {'P', t.axis, t.below ? '-' : '+'};

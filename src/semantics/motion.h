@@ -167,11 +167,15 @@ struct TravelViolation {
 std::vector<TravelViolation> travel_violations(const Envelope& env, const Config& config);
 
 // An axis a plain positioning block moves to outside the configured travel.
+// No initialisers: positioning_violations sets every field of the ones it
+// counts, and leaves the others of its array alone (zeroing it on every move
+// costs more than the check).
 struct AxisPastTravel {
-    char axis = 0;
-    double value = 0;    // the position reached
-    double limit = 0;    // the limit it passes
-    bool below = false;  // below the minimum (else above the maximum)
+    char axis;
+    double value;  // the position reached
+    double limit;  // the limit it passes
+    bool below;    // below the minimum (else above the maximum)
+    ByteRange word;  // the axis's word on the block (its last, when written twice)
 };
 // At most one per axis X, Y, Z, in the order of the block's words: a fixed
 // array, since a wrong work offset puts every move of a program here.
