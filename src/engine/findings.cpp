@@ -61,6 +61,18 @@ Diagnostic& Walk::report(const RuleMeta& rule, ByteRange range, std::string mess
     return findings_.back();
 }
 
+namespace {
+
+// Whether `key` is the same as the as many bytes at `other` (short keys: no
+// call to memcmp).
+bool same_bytes(std::string_view key, const char* other) {
+    for (size_t i = 0; i < key.size(); ++i)
+        if (key[i] != other[i]) return false;
+    return true;
+}
+
+}  // namespace
+
 bool Walk::folded(const RuleMeta& rule, std::string_view key, ByteRange range) {
     pending_verdict_.reset();
     if (!folder_.enabled()) return false;
@@ -71,7 +83,16 @@ bool Walk::folded(const RuleMeta& rule, std::string_view key, ByteRange range) {
         probe.range.start = positions_.position(range.begin);
         if (filter_->covers(probe)) return false;
     }
-    pending_kind_ = keyed_kind(rule.id, key);
+    if (key.size() == last_key_.size && rule.id.data() == last_key_.rule.data() && rule.id.size() == last_key_.rule.size() &&
+        same_bytes(key, last_key_.key.data())) {
+        pending_kind_ = last_key_.kind;
+    } else {
+        pending_kind_ = keyed_kind(rule.id, key);
+        if (key.size() <= last_key_.key.size()) {
+            std::copy(key.begin(), key.end(), last_key_.key.begin());
+            last_key_ = {rule.id, last_key_.key, key.size(), pending_kind_};
+        }
+    }
     const Folder::Verdict v = folder_.next(pending_kind_, range);
     if (v == Folder::Verdict::Count) return true;
     pending_verdict_ = v;

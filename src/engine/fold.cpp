@@ -39,7 +39,7 @@ uint64_t keyed_kind(std::string_view rule, std::string_view key) {
     return h;
 }
 
-Folder::Verdict Folder::next(uint64_t kind, ByteRange range) {
+Folder::Verdict Folder::next_kind(uint64_t kind, ByteRange range) {
     if (keep_ == 0) return Verdict::Show;
     if (last_ == kNoSlot || last_kind_ != kind) {
         auto it = index_.find(kind);

@@ -39,7 +39,17 @@ public:
         Count,  // only counted (its range noted as the last so far)
     };
     // What to do with the next finding of `kind`, starting at `range`.
-    Verdict next(uint64_t kind, ByteRange range);
+    Verdict next(uint64_t kind, ByteRange range) {
+        // The same kind as the last one, already folding: only counted.
+        if (last_ != kNoSlot && last_kind_ == kind && kinds_[last_].holding) {
+            Kind& k = kinds_[last_];
+            ++k.counted;
+            ++folded_;
+            k.last = range;
+            return Verdict::Count;
+        }
+        return next_kind(kind, range);
+    }
     // Keeps the representative of `kind` (after a Hold verdict).
     void hold(uint64_t kind, Diagnostic&& d);
     // The representatives of the file, in the order they were held, each with
@@ -77,6 +87,7 @@ private:
         ByteRange last;
     };
     static void annotate(Diagnostic& d, uint64_t counted, const SourceRange& last);
+    Verdict next_kind(uint64_t kind, ByteRange range);
 
     uint64_t keep_;
     std::vector<Kind> kinds_;                       // in the order first met

@@ -8,6 +8,8 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -549,6 +551,14 @@ private:
     std::vector<std::optional<Folder::Verdict>> verdicts_;  // per finding: decided when `folded` was asked
     std::optional<Folder::Verdict> pending_verdict_;        // from `folded`, for the next report
     uint64_t pending_kind_ = 0;
+    // The kind of the last key `folded` was asked about: a rule that reports
+    // on every move asks with the same key again and again.
+    struct LastKey {
+        std::string_view rule;
+        std::array<char, 24> key{};
+        size_t size = SIZE_MAX;  // none yet
+        uint64_t kind = 0;
+    } last_key_;
     Folder folder_{0};
     Block block_buf_;           // the block read last by the walk
     Block* partial_ = nullptr;  // the block read last, when read in part (read with `moves`)

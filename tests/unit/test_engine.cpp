@@ -639,6 +639,40 @@ TEST_CASE("engine: folding keeps the first findings of a kind, and one that stan
     }
 }
 
+TEST_CASE("engine: folding tells apart kinds of one rule whose keys alternate from move to move") {
+    // X below, Z below and Z above the travel, in turns and together: each
+    // kind folds on its own, and the finding is on the axis's last word.
+    Config config;
+    config.travel['X'] = TravelLimit{-100, 100};
+    config.travel['Z'] = TravelLimit{-100, 100};
+    std::string text = "O1\nG90 G0 X0 Y0 Z0\n";
+    const char* moves[] = {"G1 X-500.", "G1 Z-500.", "G1 Z500.", "G1 X-500. Z-500.", "G1 Z-1. X-300. Z-600."};
+    for (int i = 0; i < 60; ++i) text += std::string(moves[i % 5]) + "\n";
+    text += "M30\n";
+    const FileResult all = check_text("k.min", text, config);
+    AnalysisOptions options;
+    options.fold = 2;
+    const FileResult folded = check_text("k.min", text, config, options);
+    auto kind = [](const Diagnostic& d) {
+        const std::string axis = d.message.find("moves X") != std::string::npos ? "X" : "Z";
+        return axis + (d.message.find(" below ") != std::string::npos ? "-" : "+");
+    };
+    std::map<std::string, uint64_t> unfolded, represented;
+    for (const auto& d : all.diagnostics) {
+        REQUIRE(d.rule == "OSP301");
+        ++unfolded[kind(d)];
+        // The word the finding is on: the last of its axis on the line.
+        const std::string word = d.line_text.substr(d.range.start.byte_col, d.range.end.byte_col - d.range.start.byte_col);
+        REQUIRE(!word.empty());
+        CHECK_MESSAGE(word[0] == kind(d)[0], d.message);
+        CHECK(d.line_text.find(word[0], d.range.end.byte_col) == std::string::npos);
+    }
+    for (const auto& d : folded.diagnostics) represented[kind(d)] += 1 + d.folded;
+    CHECK(unfolded == std::map<std::string, uint64_t>{{"X-", 36}, {"Z-", 36}, {"Z+", 12}});
+    CHECK(represented == unfolded);
+    CHECK(folded.diagnostics.size() == 9);  // two shown and one representative of each kind
+}
+
 TEST_CASE("engine: a set cancel flag stops the walk") {
     std::string text = "O1\n";
     for (int i = 0; i < 20000; ++i) text += "G1 X1. Y2.\n";
