@@ -55,7 +55,9 @@ public:
         // A plain move runs no macro and drills no hole: no envelope.
         std::optional<Envelope> env = v.plain_move ? std::nullopt : cycle_envelope(v, config);
         if (!env) {
-            for (const auto& t : positioning_violations(v, config)) {
+            const AxesPastTravel past =
+                v.plain_move ? axes_past_travel(v.block, v.before, v.after, config) : positioning_violations(v, config);
+            for (const auto& t : past) {
                 const ByteRange where = t.word;
                 // A wrong offset puts every move out of travel: after the first
                 // few of a kind, the others are only counted (engine/fold.h).

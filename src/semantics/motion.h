@@ -190,6 +190,56 @@ struct AxesPastTravel {
 // the configured travel. A block the view says is a plain move is one.
 AxesPastTravel positioning_violations(const BlockView& v, const Config& config);
 
+// X, Y or Z (inline: asked of every word of every move).
+inline bool is_axis_letter(std::string_view a) { return a.size() == 1 && (a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z'); }
+
+// What positioning_violations finds once it knows the block moves to its
+// axis words (every one but the cycle axis in a fixed cycle, a depth): called
+// directly for a block the view says is a plain move (inline: a wrong work
+// offset puts every move of a program here).
+inline AxesPastTravel axes_past_travel(const Block& b, const ModalState& before, const ModalState& after,
+                                       const Config& config) {
+    AxesPastTravel out;
+    const bool in_cycle = after.cycle.known && after.cycle.value;
+    const char cyc = in_cycle && before.plane.known ? plane_axes(before.plane.value).cycle : 0;
+    // The limits of X, Y and Z, looked up once for the block.
+    std::array<const TravelLimit*, 3> limits{};
+    for (size_t i = 0; i < 3; ++i)
+        if (auto it = config.travel.find(static_cast<char>('X' + i)); it != config.travel.end()) limits[i] = &it->second;
+    unsigned seen = 0;                        // X, Y, Z: bits 0, 1, 2
+    std::array<uint8_t, 3> slot{3, 3, 3};     // X, Y, Z: the place in out.axes (3: none)
+    size_t count = 0;
+    for (const auto& w : b.words) {
+        if (!is_axis_letter(w.address)) continue;
+        const char a = w.address[0];
+        if (in_cycle && a == cyc) continue;  // a cycle depth, not a move
+        const auto i = static_cast<size_t>(a - 'X');
+        const unsigned bit = 1u << i;
+        if (seen & bit) {
+            if (slot[i] < 3) out.axes[slot[i]].word = w.range;
+            continue;
+        }
+        seen |= bit;
+        const TravelLimit* limit = limits[i];
+        const Val<double> pos = after.axis(a);
+        if (!limit || !pos.known) continue;
+        if (pos.value < limit->min || pos.value > limit->max) {
+            // Field by field: a braced temporary is built on the stack in
+            // narrow stores and copied in wide loads, a stall on every move.
+            const bool below = pos.value < limit->min;
+            slot[i] = static_cast<uint8_t>(count);
+            AxisPastTravel& t = out.axes[count++];
+            t.axis = a;
+            t.value = pos.value;
+            t.limit = below ? limit->min : limit->max;
+            t.below = below;
+            t.word = w.range;
+        }
+    }
+    out.count = count;
+    return out;
+}
+
 // A number as the trace and the messages print it: at most 4 decimals, no trailing zeros.
 std::string motion_number(double v);
 

@@ -38,9 +38,6 @@ bool non_motion_block(const Block& b);
 // A G-code macro that behaves as a fixed cycle until its cancel (OG84L).
 bool is_cycle_macro(const MacroSpec& spec);
 bool is_any_axis(std::string_view a);  // X Y Z A B C U V W
-inline bool is_axis_letter(std::string_view a) {  // X Y Z (inline: asked of every word of every move)
-    return a.size() == 1 && (a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z');
-}
 bool block_has_axis(const Block& b, char axis);
 // The plane point a word of the block moves to (G90/G91).
 std::optional<double> block_axis_target(const Block& b, char axis, const ModalState& before);

@@ -1,6 +1,5 @@
 // Points outside `[machine.travel]` (see motion.h): the definite points of an
 // envelope, and the axes a plain positioning block moves to.
-#include <array>
 #include <map>
 #include <utility>
 
@@ -8,7 +7,6 @@
 
 namespace osplint {
 
-using motion_detail::is_axis_letter;
 using motion_detail::is_cycle_macro;
 using motion_detail::non_motion_block;
 using motion_detail::num;
@@ -106,53 +104,16 @@ AxesPastTravel positioning_violations(const BlockView& v, const Config& config) 
     const ModalState& before = v.before;
     const ModalState& after = v.after;
     const MacroCall* call = v.call;
-    AxesPastTravel out;
-    if (b.kind != LineKind::Block || config.travel.empty()) return out;
+    AxesPastTravel none;  // returned whole by every early exit (NRVO)
+    if (b.kind != LineKind::Block || config.travel.empty()) return none;
     // A plain move calls nothing, is no hole (no cycle is modal) and moves.
     if (!v.plain_move) {
-        if (call && call->kind != CallKind::GCode) return out;  // macros: see their envelopes
-        if (call && call->spec && !is_cycle_macro(*call->spec)) return out;
-        if (is_cycle_hole(b, before, after, call)) return out;  // holes: see their envelopes
-        if (non_motion_block(b) || b.statement(StmtKind::Call) || b.statement(StmtKind::Modin)) return out;
+        if (call && call->kind != CallKind::GCode) return none;  // macros: see their envelopes
+        if (call && call->spec && !is_cycle_macro(*call->spec)) return none;
+        if (is_cycle_hole(b, before, after, call)) return none;  // holes: see their envelopes
+        if (non_motion_block(b) || b.statement(StmtKind::Call) || b.statement(StmtKind::Modin)) return none;
     }
-    const bool in_cycle = after.cycle.known && after.cycle.value;
-    const char cyc = in_cycle && before.plane.known ? plane_axes(before.plane.value).cycle : 0;
-    // The limits of X, Y and Z, looked up once for the block.
-    std::array<const TravelLimit*, 3> limits{};
-    for (size_t i = 0; i < 3; ++i)
-        if (auto it = config.travel.find(static_cast<char>('X' + i)); it != config.travel.end()) limits[i] = &it->second;
-    unsigned seen = 0;                        // X, Y, Z: bits 0, 1, 2
-    std::array<uint8_t, 3> slot{3, 3, 3};     // X, Y, Z: the place in out.axes (3: none)
-    size_t count = 0;
-    for (const auto& w : b.words) {
-        if (!is_axis_letter(w.address)) continue;
-        const char a = w.address[0];
-        if (in_cycle && a == cyc) continue;  // a cycle depth, not a move
-        const auto i = static_cast<size_t>(a - 'X');
-        const unsigned bit = 1u << i;
-        if (seen & bit) {
-            if (slot[i] < 3) out.axes[slot[i]].word = w.range;
-            continue;
-        }
-        seen |= bit;
-        const TravelLimit* limit = limits[i];
-        const Val<double> pos = after.axis(a);
-        if (!limit || !pos.known) continue;
-        if (pos.value < limit->min || pos.value > limit->max) {
-            // Field by field: a braced temporary is built on the stack in
-            // narrow stores and copied in wide loads, a stall on every move.
-            const bool below = pos.value < limit->min;
-            slot[i] = static_cast<uint8_t>(count);
-            AxisPastTravel& t = out.axes[count++];
-            t.axis = a;
-            t.value = pos.value;
-            t.limit = below ? limit->min : limit->max;
-            t.below = below;
-            t.word = w.range;
-        }
-    }
-    out.count = count;
-    return out;
+    return axes_past_travel(b, before, after, config);
 }
 
 }  // namespace osplint
