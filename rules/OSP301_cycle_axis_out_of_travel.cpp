@@ -55,19 +55,9 @@ public:
         // A plain move runs no macro and drills no hole: no envelope.
         std::optional<Envelope> env = v.plain_move ? std::nullopt : cycle_envelope(v, config);
         if (!env) {
-            const AxesPastTravel past =
-                v.plain_move ? axes_past_travel(v.block, v.before, v.after, config) : positioning_violations(v, config);
-            for (const auto& t : past) {
-                const ByteRange where = t.word;
-                // A wrong offset puts every move out of travel: after the first
-                // few of a kind, the others are only counted (engine/fold.h).
-                const char key[] = {'P', t.axis, t.below ? '-' : '+'};
-                if (ctx.folded(kMeta, std::string_view(key, sizeof key), where)) continue;
-                auto& d = ctx.report(kMeta, where,
-                                     fmt_move(t) + " the " + std::string(1, t.axis) + " travel " +
-                                         (t.below ? "minimum " : "maximum ") + motion_number(t.limit));
-                d.notes.push_back({travel_text(config, t.axis), std::nullopt});
-            }
+            report_positions(ctx, config,
+                             v.plain_move ? axes_past_travel(v.block.words, v.before, v.after, config)
+                                          : positioning_violations(v, config));
             return;
         }
         for (const auto& t : travel_violations(*env, config)) {
@@ -99,7 +89,28 @@ public:
         }
     }
 
+    // A plain move read without its block: the same check as check_block's.
+    bool takes_plain_values() const override { return true; }
+    void check_plain_move(RuleContext& ctx, const PlainMoveView& v) override {
+        const Config& config = ctx.config();
+        if (config.travel.empty()) return;
+        report_positions(ctx, config, axes_past_travel(v.move, v.before, v.after, config));
+    }
+
 private:
+    // The axes a positioning block moves past the travel, each on its word.
+    static void report_positions(RuleContext& ctx, const Config& config, const AxesPastTravel& past) {
+        for (const auto& t : past) {
+            // A wrong offset puts every move out of travel: after the first
+            // few of a kind, the others are only counted (engine/fold.h).
+            const char key[] = {'P', t.axis, t.below ? '-' : '+'};
+            if (ctx.folded(kMeta, std::string_view(key, sizeof key), t.word)) continue;
+            auto& d = ctx.report(kMeta, t.word,
+                                 fmt_move(t) + " the " + std::string(1, t.axis) + " travel " +
+                                     (t.below ? "minimum " : "maximum ") + motion_number(t.limit));
+            d.notes.push_back({travel_text(config, t.axis), std::nullopt});
+        }
+    }
     static std::string fmt_move(const AxisPastTravel& t) {
         return "this block moves " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
                motion_number(std::fabs(t.value - t.limit)) + (t.below ? " below" : " above");

@@ -208,7 +208,9 @@ void Walk::walk_blocks() {
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
         if (rules_idle() && skim_run(kRunLines, flow_.end())) continue;
-        if (!read(b, line, moves_with_rules() && plain_may_apply())) break;
+        const Next next = read_for_rules(b, line);
+        if (next == Next::End) break;
+        if (next == Next::Checked) continue;
         uint32_t extent = 0;
         if (flow_.has_flow() && loop_head(b, line.start, extent)) {
             read_whole(b, line);  // a loop may hold its head
@@ -435,7 +437,9 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
                 index += k - 1;
                 continue;
             }
-        if (!read(b, line, moves_with_rules() && plain_may_apply())) break;
+        const Next next = read_for_rules(b, line);
+        if (next == Next::End) break;
+        if (next == Next::Checked) continue;
         visit(b, line, mode);
     }
     return !stop_;
@@ -654,12 +658,57 @@ void Walk::plain_done(const LineRef& line) {
 // sequence name and that no loop edge flows into, made from the move's
 // values alone: no block is built (FastLineParser::plain_move).
 bool Walk::skim(const LineRef& line) {
+    if (!apply_plain_values(line)) return false;
+    plain_done(line);
+    return true;
+}
+
+// What skim and skim_checked share: whether the line is a plain move that
+// visit would apply as one, read from its values alone (into plain_move_);
+// when it is, applied (B_ is the state after it).
+bool Walk::apply_plain_values(const LineRef& line) {
     if (!plain_ok_ || !reachable_ || !plain_move_state(*A_)) return false;
     if (!parser_.plain_move(line, plain_move_)) return false;
     if (pending_offset_.find(line.start) || flow_.loop_at_head(line.start)) return false;
     partial_ = nullptr;
     ++stats_.transfers;
     apply_plain_move(plain_move_, line.line, plain_after());
+    return true;
+}
+
+// The next line of the walk with the rules: a plain move checked from its
+// values alone (skim_checked), or its block, read for visit.
+Walk::Next Walk::read_for_rules(Block& b, LineRef& line) {
+    if (!rules_take_values()) return read(b, line, moves_with_rules() && plain_may_apply()) ? Next::Block : Next::End;
+    if (!fetch(line)) return Next::End;
+    if (skim_checked(line)) return Next::Checked;
+    parse(b, line, plain_may_apply());
+    return Next::Block;
+}
+
+// Whether the walk with the rules may read the next plain move from its
+// values (skim_checked): in a batch analysis, while every rule that wants
+// plain moves takes them so (Rule::takes_plain_values).
+bool Walk::rules_take_values() const {
+    if (!runs_ok_ || !moves_with_rules()) return false;
+    for (const Rule* r : plain_rules_)
+        if (r->wants_plain_moves() && !r->takes_plain_values()) return false;
+    return true;
+}
+
+// In the walk with the rules, what visit and check do for a plain move
+// without a sequence name, made from the move's values alone: no block is
+// built; the rules that want plain moves see it through check_plain_move.
+bool Walk::skim_checked(const LineRef& line) {
+    if (!apply_plain_values(line)) return false;
+    ++stats_.value_blocks;
+    if (!held_) positions_.set_current(line);
+    block_ = nullptr;
+    const PlainMoveView view{plain_move_, {line.start, line.start + static_cast<uint32_t>(line.text.size())},
+                             line.line, *A_, *B_};
+    for (Rule* r : plain_rules_)
+        if (r->wants_plain_moves()) r->check_plain_move(*this, view);
+    if (!findings_.empty()) flush();
     plain_done(line);
     return true;
 }

@@ -5,7 +5,9 @@
 // loops join paths), resolves which macro each block invokes (a CALL, a MODIN
 // line, a block that triggers an open MODIN, a registered G-code macro),
 // evaluates the arguments, and hands every block to every enabled rule in
-// program order. Rules never walk the program themselves.
+// program order (a plain move only to the rules that ask for one, and to a
+// rule that takes them so, read into its values without a block: see
+// takes_plain_values). Rules never walk the program themselves.
 #pragma once
 
 #include <concepts>
@@ -111,6 +113,16 @@ std::string_view status_name(RuleStatus s);      // "stable", "preview"
 // every page to it (and write it with OSPLINT_UPDATE_SNAPSHOTS=1).
 std::string rule_doc_header(const RuleMeta& meta);
 
+// A plain move without a sequence name in a plain-move state, read without
+// its block (PlainMove): what a rule that takes such moves so sees of it.
+struct PlainMoveView {
+    const PlainMove& move;
+    ByteRange range;           // the line, as Block::range
+    uint32_t line = 0;         // 1-based
+    const ModalState& before;  // state in effect when the block starts
+    const ModalState& after;   // state after the block
+};
+
 struct ProgramView {
     const Program& program;
     // A subprogram: it has an RTS, lives in a .SSB/.SUB/.LIB/.MSB file, or is not
@@ -184,6 +196,13 @@ public:
     // another block (OSP004 once it knows where the program's content starts).
     // Plain moves with a sequence name reach it regardless.
     bool wants_plain_moves() const { return wants_plain_moves_; }
+    // Whether check_plain_move does, for a plain move without a sequence name,
+    // all that check_block would do for its block. While every rule that
+    // wants plain moves says so, a batch analysis reads such moves without
+    // building their blocks (the differential tests hold the findings to a
+    // walk that shows every rule every block).
+    virtual bool takes_plain_values() const { return false; }
+    virtual void check_plain_move(RuleContext&, const PlainMoveView&) {}
     virtual void end_program(RuleContext&, const ProgramView&) {}
     // A copy of the rule with its state (the engine's checkpoints, from which
     // the language server re-analyses a document after an edit).

@@ -297,6 +297,14 @@ private:
     // In a sweep without the rules: a plain move applied from its values
     // alone, without a block; false for any other line (it is then parsed).
     bool skim(const LineRef& line);
+    bool apply_plain_values(const LineRef& line);
+    // In the walk with the rules, while rules_take_values(): a plain move
+    // checked from its values alone (Rule::check_plain_move); false for any
+    // other line (it is then parsed).
+    bool rules_take_values() const;
+    bool skim_checked(const LineRef& line);
+    enum class Next { Block, Checked, End };
+    Next read_for_rules(Block& b, LineRef& line);
     uint32_t skim_run(uint32_t max_lines, uint64_t start_limit);
     // The most lines skim_run may read in a sweep from its `index`-th block:
     // up to the next probe (converged() looks at that block).

@@ -192,13 +192,19 @@ AxesPastTravel positioning_violations(const BlockView& v, const Config& config);
 
 // X, Y or Z (inline: asked of every word of every move).
 inline bool is_axis_letter(std::string_view a) { return a.size() == 1 && (a[0] == 'X' || a[0] == 'Y' || a[0] == 'Z'); }
+// The axis a word moves, X, Y or Z, else 0: of a block's word, or of a plain
+// move's read without its block.
+inline char moved_axis(const Word& w) { return is_axis_letter(w.address) ? w.address[0] : 0; }
+inline char moved_axis(const PlainMoveWord& w) { return w.address >= 'X' && w.address <= 'Z' ? w.address : 0; }
 
 // What positioning_violations finds once it knows the block moves to its
-// axis words (every one but the cycle axis in a fixed cycle, a depth): called
-// directly for a block the view says is a plain move (inline: a wrong work
-// offset puts every move of a program here).
-inline AxesPastTravel axes_past_travel(const Block& b, const ModalState& before, const ModalState& after,
-                                       const Config& config) {
+// axis words (every one but the cycle axis in a fixed cycle, a depth), from
+// the block's words or from a plain move's (PlainMove): called directly for a
+// block the engine says is a plain move (inline: a wrong work offset puts
+// every move of a program here).
+template <class Words>
+AxesPastTravel axes_past_travel(const Words& words, const ModalState& before, const ModalState& after,
+                                const Config& config) {
     AxesPastTravel out;
     const bool in_cycle = after.cycle.known && after.cycle.value;
     const char cyc = in_cycle && before.plane.known ? plane_axes(before.plane.value).cycle : 0;
@@ -209,10 +215,9 @@ inline AxesPastTravel axes_past_travel(const Block& b, const ModalState& before,
     unsigned seen = 0;                        // X, Y, Z: bits 0, 1, 2
     std::array<uint8_t, 3> slot{3, 3, 3};     // X, Y, Z: the place in out.axes (3: none)
     size_t count = 0;
-    for (const auto& w : b.words) {
-        if (!is_axis_letter(w.address)) continue;
-        const char a = w.address[0];
-        if (in_cycle && a == cyc) continue;  // a cycle depth, not a move
+    for (const auto& w : words) {
+        const char a = moved_axis(w);
+        if (!a || (in_cycle && a == cyc)) continue;  // not an axis; a cycle depth, not a move
         const auto i = static_cast<size_t>(a - 'X');
         const unsigned bit = 1u << i;
         if (seen & bit) {

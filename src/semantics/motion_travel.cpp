@@ -113,7 +113,7 @@ AxesPastTravel positioning_violations(const BlockView& v, const Config& config) 
         if (is_cycle_hole(b, before, after, call)) return none;  // holes: see their envelopes
         if (non_motion_block(b) || b.statement(StmtKind::Call) || b.statement(StmtKind::Modin)) return none;
     }
-    return axes_past_travel(b, before, after, config);
+    return axes_past_travel(b.words, before, after, config);
 }
 
 }  // namespace osplint

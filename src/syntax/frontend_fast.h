@@ -33,21 +33,6 @@ namespace osplint {
 // Parses lines into Blocks. Keeps its scratch storage (and the storage of the
 // Block it fills) between calls, so that parsing a stream of ordinary blocks
 // does not allocate.
-// One word of a plain move: what apply_plain_move reads of it.
-struct PlainMoveWord {
-    char address = 0;   // X, Y, Z, F or G
-    double number = 0;  // with its sign
-    ByteRange range;    // the whole word
-};
-
-// The words of a plain move of the simplest shape, read without a block
-// (FastLineParser::plain_move).
-struct PlainMove {
-    static constexpr size_t kMaxWords = 8;
-    std::array<PlainMoveWord, kMaxWords> words;
-    size_t count = 0;
-};
-
 class FastLineParser {
 public:
     FastLineParser();

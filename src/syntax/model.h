@@ -10,6 +10,7 @@
 // test compares what they produce field by field (see `operator==`).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -169,6 +170,24 @@ struct Block {
         return nullptr;
     }
     friend bool operator==(const Block&, const Block&) = default;
+};
+
+// The commonest block of a posted program, read without building it: a
+// plain move of the simplest shape (`X-53.7 Y-40. F2500`, glued words with
+// literal values, G0 to G3 and X, Y, Z, F only, no sequence name), as
+// FastLineParser::plain_move reads it. Its words are those the Block of the
+// same line would have, with their address, signed number and range only.
+struct PlainMoveWord {
+    char address = 0;   // X, Y, Z, F or G
+    double number = 0;  // with its sign
+    ByteRange range;    // the whole word
+};
+struct PlainMove {
+    static constexpr size_t kMaxWords = 8;
+    std::array<PlainMoveWord, kMaxWords> words;
+    size_t count = 0;
+    const PlainMoveWord* begin() const { return words.data(); }
+    const PlainMoveWord* end() const { return words.data() + count; }
 };
 
 // A program inside a file: from its `O` name (or the file start when the name

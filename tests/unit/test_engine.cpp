@@ -475,13 +475,21 @@ TEST_CASE("engine: plain moves in every modal state give the reference's result"
     config.rule_severity["OSP003"] = Severity::Warning;  // off by default; it sees plain moves with a name
     std::mt19937 rng(777);
     std::map<std::string, int> seen;
+    uint64_t value_blocks = 0;
     for (int i = 0; i < 400; ++i) {
         const std::string text = plain_move_program(rng);
         compare_checks("plain" + std::to_string(i) + ".min", text, config);
-        for (const auto& d : check_text("p.min", text, config).diagnostics) ++seen[d.rule];
+        EngineStats st;
+        AnalysisOptions options;
+        options.stats = &st;
+        for (const auto& d : check_text("p.min", text, config, options).diagnostics) ++seen[d.rule];
+        value_blocks += st.value_blocks;
     }
     // The rules that look at plain moves had findings to compare.
     for (const char* id : {"OSP003", "OSP004", "OSP212", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
+    // While only OSP301 (which takes a move's values) wants plain moves, the
+    // walk with the rules checks them without building their blocks.
+    CHECK(value_blocks > 1000);
 }
 
 TEST_CASE("engine: plain moves around jumps and loops give the reference's result") {
@@ -495,6 +503,7 @@ TEST_CASE("engine: plain moves around jumps and loops give the reference's resul
     config.rule_severity["OSP003"] = Severity::Warning;
     std::mt19937 rng(4242);
     std::map<std::string, int> seen;
+    uint64_t value_blocks = 0;
     for (int i = 0; i < 150; ++i) {
         std::vector<std::string> lines;
         std::istringstream in(plain_move_program(rng));
@@ -510,9 +519,15 @@ TEST_CASE("engine: plain moves around jumps and loops give the reference's resul
         text += rng() % 2 ? "VC9=VC9+1\nIF [VC9 LT 2] N800\n" : "WHILE [VC9 LT 2] DO 1\nX500. Y-500.\nVC9=VC9+1\nEND 1\n";
         text += lines.back() + "\n";
         compare_checks("jumps" + std::to_string(i) + ".min", text, config);
-        for (const auto& d : check_text("p.min", text, config).diagnostics) ++seen[d.rule];
+        EngineStats st;
+        AnalysisOptions options;
+        options.stats = &st;
+        for (const auto& d : check_text("p.min", text, config, options).diagnostics) ++seen[d.rule];
+        value_blocks += st.value_blocks;
     }
     for (const char* id : {"OSP003", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
+    // Around the jumps and inside the loops too.
+    CHECK(value_blocks > 100);
 }
 
 TEST_CASE("columns: a finding that starts inside a multi-byte character does not shift the next one") {
