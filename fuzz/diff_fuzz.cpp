@@ -32,9 +32,19 @@ namespace {
     std::abort();
 }
 
-const Config& config() {
-    static const Config c;
-    return c;
+// The default configuration, or one with travel limits (OSP301 then looks
+// at every move, and the walk with the rules checks plain moves from their
+// values), as a bit of the input says.
+const Config& config_for(bool travel) {
+    static const Config plain;
+    static const Config limited = [] {
+        Config c;
+        c.travel['X'] = TravelLimit{-300, 300};
+        c.travel['Y'] = TravelLimit{-200, 200};
+        c.travel['Z'] = TravelLimit{-300, 100};
+        return c;
+    }();
+    return travel ? limited : plain;
 }
 
 }  // namespace
@@ -64,17 +74,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         divergence("outline\n-- reference:\n" + expected_outline + "-- engine:\n" + outline);
 
     const std::string path = size > 0 && (data[0] & 1) ? "fuzz.ssb" : "fuzz.min";
-    const std::string expected = dump_result(reference_check(path, text, config()));
+    const Config& config = config_for(size > 0 && (data[0] & 4));
+    const std::string expected = dump_result(reference_check(path, text, config));
     AnalysisOptions options;
     options.chunk_size = size > 1 ? 1 + data[size - 1] % 61 : 1;
     options.held_loop_blocks = size > 0 && (data[0] & 2) ? 0 : 8192;
-    const std::string small = dump_result(check_text(path, text, config(), options));
+    const std::string small = dump_result(check_text(path, text, config, options));
     if (small != expected)
         divergence("check (chunk " + std::to_string(options.chunk_size) + ", held " +
                    std::to_string(options.held_loop_blocks) + ")\n-- reference:\n" + expected + "-- engine:\n" + small);
     options.chunk_size = size_t(1) << 20;
     options.held_loop_blocks = 8192;
-    const std::string large = dump_result(check_text(path, text, config(), options));
+    const std::string large = dump_result(check_text(path, text, config, options));
     if (large != expected) divergence("check (chunk 1 MiB)\n-- reference:\n" + expected + "-- engine:\n" + large);
     return 0;
 }
