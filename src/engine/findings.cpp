@@ -63,8 +63,8 @@ Diagnostic& Walk::report(const RuleMeta& rule, ByteRange range, std::string mess
 
 namespace {
 
-// Whether `key` is the same as the as many bytes at `other` (short keys: no
-// call to memcmp).
+// Whether `key` equals the bytes at `other` (a short key: compared here, not
+// by a call to memcmp).
 bool same_bytes(std::string_view key, const char* other) {
     for (size_t i = 0; i < key.size(); ++i)
         if (key[i] != other[i]) return false;
@@ -90,7 +90,9 @@ bool Walk::folded(const RuleMeta& rule, std::string_view key, ByteRange range) {
         pending_kind_ = keyed_kind(rule.id, key);
         if (key.size() <= last_key_.key.size()) {
             std::copy(key.begin(), key.end(), last_key_.key.begin());
-            last_key_ = {rule.id, last_key_.key, key.size(), pending_kind_};
+            last_key_.rule = rule.id;
+            last_key_.size = key.size();
+            last_key_.kind = pending_kind_;
         }
     }
     const Folder::Verdict v = folder_.next(pending_kind_, range);

@@ -167,9 +167,9 @@ struct TravelViolation {
 std::vector<TravelViolation> travel_violations(const Envelope& env, const Config& config);
 
 // An axis a plain positioning block moves to outside the configured travel.
-// No initialisers: positioning_violations sets every field of the ones it
-// counts, and leaves the others of its array alone (zeroing it on every move
-// costs more than the check).
+// No initialisers: axes_past_travel sets every field of the ones it counts,
+// and leaves the others of its array alone (zeroing it on every move costs
+// more than the check).
 struct AxisPastTravel {
     char axis;
     double value;  // the position reached
