@@ -104,7 +104,7 @@ AxesPastTravel positioning_violations(const BlockView& v, const Config& config) 
     const ModalState& before = v.before;
     const ModalState& after = v.after;
     const MacroCall* call = v.call;
-    AxesPastTravel none;  // returned whole by every early exit (NRVO)
+    AxesPastTravel none;  // what every early exit returns
     if (b.kind != LineKind::Block || config.travel.empty()) return none;
     // A plain move calls nothing, is no hole (no cycle is modal) and moves.
     if (!v.plain_move) {
