@@ -1,5 +1,6 @@
 #include "semantics/modal.h"
 
+#include <algorithm>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -73,17 +74,19 @@ void merge_modin(Val<std::optional<ActiveModin>>& a, const Val<std::optional<Act
     }
     if (a.value == b.value) return;
     if (!a.value || !b.value || a.value->macro != b.value->macro || a.value->line != b.value->line ||
-        a.value->via != b.value->via || a.value->given != b.value->given) {
+        a.value->via != b.value->via || a.value->given() != b.value->given()) {
         a = {};
         return;
     }
-    std::map<std::string, double>& mine = a.value->values;
-    const std::map<std::string, double>& theirs = b.value->values;
-    for (auto it = mine.begin(); it != mine.end();) {
-        const auto jt = theirs.find(it->first);
-        if (jt == theirs.end() || !(jt->second == it->second)) it = mine.erase(it);
-        else ++it;
-    }
+    const std::map<std::string, double>& theirs = b.value->values();
+    const auto agreed = [&](const std::pair<const std::string, double>& v) {
+        const auto jt = theirs.find(v.first);
+        return jt != theirs.end() && jt->second == v.second;
+    };
+    const std::map<std::string, double>& values = a.value->values();
+    if (std::all_of(values.begin(), values.end(), agreed)) return;
+    std::map<std::string, double>& mine = a.value->args_to_edit().values;
+    for (auto it = mine.begin(); it != mine.end();) it = agreed(*it) ? std::next(it) : mine.erase(it);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -144,14 +145,39 @@ struct OpenCycle {
 };
 
 // The macro of an open MODIN, with its arguments as commanded.
-struct ActiveModin {
-    std::string macro;  // "OG87C"
-    uint32_t line = 0;  // the MODIN block
+// The arguments of a MODIN line, as the modal state carries them.
+struct ModinArgs {
     // Argument name -> known numeric value (absent: not given or value unknown).
     std::map<std::string, double> values;
     std::vector<std::string> given;  // every argument name given on the MODIN line
+    friend bool operator==(const ModinArgs&, const ModinArgs&) = default;
+};
+
+struct ActiveModin {
+    std::string macro;  // "OG87C"
+    uint32_t line = 0;  // the MODIN block
     std::string via;  // "O100" when a user subprogram opened it and left it open; else empty
-    friend bool operator==(const ActiveModin&, const ActiveModin&) = default;
+
+    // The state is copied at every block while the MODIN stays open: the
+    // arguments are shared between the copies, and copied only when one
+    // of them changes (args_to_edit).
+    const std::map<std::string, double>& values() const { return args().values; }
+    const std::vector<std::string>& given() const { return args().given; }
+    const ModinArgs& args() const {
+        static const ModinArgs none;
+        return args_ ? *args_ : none;
+    }
+    ModinArgs& args_to_edit() {
+        if (!args_ || args_.use_count() > 1) args_ = std::make_shared<ModinArgs>(args());
+        return *args_;
+    }
+    friend bool operator==(const ActiveModin& a, const ActiveModin& b) {
+        return a.macro == b.macro && a.line == b.line && a.via == b.via &&
+               (a.args_ == b.args_ || a.args() == b.args());
+    }
+
+private:
+    std::shared_ptr<ModinArgs> args_;  // never changed while shared (args_to_edit)
 };
 
 struct ModalState {

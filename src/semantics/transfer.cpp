@@ -649,9 +649,10 @@ void apply_statements(const BlockFacts& f, const Catalog& catalog, ModalState& s
                 am.macro = st.name;
                 am.line = b.line;
                 if (call && call->kind == CallKind::Modin) {
+                    ModinArgs& args = am.args_to_edit();
                     for (const auto& a : call->args) {
-                        am.given.push_back(a.name);
-                        if (a.value.known) am.values[a.name] = a.value.value;
+                        args.given.push_back(a.name);
+                        if (a.value.known) args.values[a.name] = a.value.value;
                     }
                 }
                 s.modin = Val<std::optional<ActiveModin>>::of(std::move(am));

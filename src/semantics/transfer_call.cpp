@@ -116,10 +116,10 @@ bool modin_positioning_call(const Block& b, const ModalState& before, const Cata
     call.name = m.macro;
     call.spec = catalog.find(m.macro);
     call.modin_line = m.line;
-    call.args.reserve(m.given.size());
-    for (const auto& name : m.given) call.args.emplace_back().name = name;
+    call.args.reserve(m.given().size());
+    for (const auto& name : m.given()) call.args.emplace_back().name = name;
     // The known values: one walk of the (small) map, not a search by name per argument.
-    for (const auto& [name, value] : m.values)
+    for (const auto& [name, value] : m.values())
         for (auto& a : call.args)
             if (same_name(a.name, name)) a.value = Val<double>::of(value);
     for (const auto& w : b.words)

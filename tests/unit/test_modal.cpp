@@ -103,8 +103,8 @@ TEST_CASE("modal state: MODIN/MODOUT, fixed cycles, G114 and M204, NCYL") {
     REQUIRE(m.modin.value.has_value());
     CHECK(m.modin.value->macro == "OG87N");
     CHECK(m.modin.value->line == 2);
-    CHECK(m.modin.value->values.at("PR") == 5);
-    CHECK(m.modin.value->values.at("PZ") == -25);
+    CHECK(m.modin.value->values().at("PR") == 5);
+    CHECK(m.modin.value->values().at("PZ") == -25);
     CHECK(r.at(3).after.modin.known);
     CHECK_FALSE(r.at(3).after.modin.value.has_value());
 
@@ -256,8 +256,8 @@ TEST_CASE("merged state: a MODIN opened by the same block on every path stays op
     REQUIRE(end.modin.known);
     REQUIRE(end.modin.value);
     CHECK(end.modin.value->line == 6);
-    CHECK(end.modin.value->values.count("PR") == 1);  // 5 on every pass
-    CHECK(end.modin.value->values.count("PZ") == 0);  // VC1+1: not the same on every pass
+    CHECK(end.modin.value->values().count("PR") == 1);  // 5 on every pass
+    CHECK(end.modin.value->values().count("PZ") == 0);  // VC1+1: not the same on every pass
     // Open at the end on every path: a definite finding, not a "may".
     const FileResult f = check_text("T.MIN", program, Config{});
     bool never_closed = false;
@@ -266,12 +266,40 @@ TEST_CASE("merged state: a MODIN opened by the same block on every path stays op
     CHECK(never_closed);
     // Opened by different blocks on the two paths: unknown.
     ModalState a, b;
-    ActiveModin m{"OG87N", 3, {{"PR", 5.0}}, {"PR"}, ""};
+    ActiveModin m;
+    m.macro = "OG87N";
+    m.line = 3;
+    m.args_to_edit() = ModinArgs{{{"PR", 5.0}}, {"PR"}};
     a.modin = Val<std::optional<ActiveModin>>::of(m);
     m.line = 6;
     b.modin = Val<std::optional<ActiveModin>>::of(m);
     a.merge(b);
     CHECK_FALSE(a.modin.known);
+}
+
+TEST_CASE("copies of an open MODIN share its arguments until one of them changes") {
+    ModalState a, b;
+    ActiveModin m;
+    m.macro = "OG87N";
+    m.line = 3;
+    m.args_to_edit() = ModinArgs{{{"PR", 5.0}, {"PZ", -25.0}}, {"PR", "PZ"}};
+    a.modin = Val<std::optional<ActiveModin>>::of(m);
+    b = a;
+    CHECK(&a.modin.value->values() == &b.modin.value->values());  // shared, not copied
+    CHECK(a.modin == b.modin);
+    // The paths disagree on PZ: the merge drops it from one state only.
+    ActiveModin other = m;
+    other.args_to_edit().values["PZ"] = -30.0;
+    ModalState c;
+    c.modin = Val<std::optional<ActiveModin>>::of(other);
+    a.merge(c);
+    REQUIRE(a.modin.known);
+    CHECK(a.modin.value->values().count("PZ") == 0);
+    CHECK(a.modin.value->values().at("PR") == 5.0);
+    CHECK(b.modin.value->values().at("PZ") == -25.0);
+    CHECK(m.values().at("PZ") == -25.0);
+    CHECK(other.values().at("PZ") == -30.0);
+    CHECK_FALSE(a.modin == b.modin);
 }
 
 TEST_CASE("merged state at the target of a backward IF jump") {
