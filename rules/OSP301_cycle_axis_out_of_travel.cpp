@@ -53,13 +53,17 @@ public:
         const Config& config = ctx.config();
         if (config.travel.empty()) return;
         // A plain move runs no macro and drills no hole: no envelope.
-        std::optional<Envelope> env = v.plain_move ? std::nullopt : cycle_envelope(v, config);
+        std::optional<Envelope> env =
+            v.plain_move ? std::nullopt : cycle_envelope(v, config, EnvelopeDetail::Values);
         if (!env) {
             report_positions(ctx, config,
                              v.plain_move ? axes_past_travel(v.block.words, v.before, v.after, config)
                                           : positioning_violations(v, config));
             return;
         }
+        // The values decide; the text of a finding needs the envelope in full.
+        if (travel_violations(*env, config).empty()) return;
+        env = cycle_envelope(v, config);
         for (const auto& t : travel_violations(*env, config)) {
             ByteRange where = v.call ? macro::call_range(*v.call, v.block) : v.block.range;
             if (t.point >= 0) {

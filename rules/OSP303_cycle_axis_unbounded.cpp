@@ -56,9 +56,12 @@ class CycleAxisUnbounded final : public RuleBase<CycleAxisUnbounded> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
-        std::optional<Envelope> env = cycle_envelope(v, ctx.config());
-        if (!env || !v.reachable || env->bounded()) return;
-        report_unbounded_envelope(ctx, v, *env);
+        if (!v.reachable) return;
+        // The values decide; the text of a finding needs the envelope in full.
+        std::optional<Envelope> env = cycle_envelope(v, ctx.config(), EnvelopeDetail::Values);
+        if (!env || env->bounded()) return;
+        env = cycle_envelope(v, ctx.config());
+        if (env && !env->bounded()) report_unbounded_envelope(ctx, v, *env);
     }
 };
 

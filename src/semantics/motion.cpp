@@ -15,7 +15,33 @@ namespace osplint {
 
 std::string motion_number(double v) {
     if (!std::isfinite(v)) return "?";  // never "inf" or "nan" in a message
-    double r = std::fabs(v) < 1e15 ? std::round(v * 10000.0) / 10000.0 : v;
+    const double scaled = std::round(v * 10000.0);
+    // Below 1e9 the double nearest to k/10000 prints with four decimals as
+    // k itself: the digits are written from k, without a formatting call (a
+    // point of an envelope is shown by the hundred thousand).
+    if (std::fabs(v) < 1e9) {
+        const long long k = static_cast<long long>(scaled);
+        unsigned long long m = static_cast<unsigned long long>(k < 0 ? -k : k);
+        char buf[32];
+        char* e = buf + sizeof buf;
+        char* p = e;
+        unsigned frac = static_cast<unsigned>(m % 10000);
+        m /= 10000;
+        int digits = 4;
+        while (digits > 0 && frac % 10 == 0) {  // no trailing zeros, no bare point
+            frac /= 10;
+            --digits;
+        }
+        for (int i = 0; i < digits; ++i, frac /= 10) *--p = static_cast<char>('0' + frac % 10);
+        if (digits > 0) *--p = '.';
+        do {
+            *--p = static_cast<char>('0' + m % 10);
+            m /= 10;
+        } while (m);
+        if (k < 0) *--p = '-';
+        return std::string(p, e);
+    }
+    double r = std::fabs(v) < 1e15 ? scaled / 10000.0 : v;
     if (r == 0) r = 0;  // no "-0"
     std::string s = fmt::format("{:.4f}", r);
     while (!s.empty() && s.back() == '0') s.pop_back();
@@ -194,9 +220,10 @@ bool runs_macro(const Block& b, const MacroCall* call) {
 }  // namespace
 
 std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall* call, const Config& config) {
+                                       const MacroCall* call, const Config& config, EnvelopeDetail detail) {
     if (b.kind != LineKind::Block) return std::nullopt;
-    if (runs_macro(b, call)) return macro_envelope(b, before, after, *call, *call->spec, &config);
+    if (runs_macro(b, call))
+        return macro_envelope(b, before, after, *call, *call->spec, &config, detail == EnvelopeDetail::Full);
     if (is_cycle_hole(b, before, after, call)) return hole_envelope(b, before, after, config);
     return std::nullopt;
 }
@@ -213,8 +240,8 @@ std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalStat
     return macro_end_point(b, before, after, *call, spec);
 }
 
-std::optional<Envelope> cycle_envelope(const BlockView& v, const Config& config) {
-    return cycle_envelope(v.block, v.before, v.after, v.call, config);
+std::optional<Envelope> cycle_envelope(const BlockView& v, const Config& config, EnvelopeDetail detail) {
+    return cycle_envelope(v.block, v.before, v.after, v.call, config, detail);
 }
 
 }  // namespace osplint

@@ -130,12 +130,22 @@ struct Envelope {
 // under NCYL or G100, not the G-code macro declaration block).
 bool is_cycle_hole(const Block& block, const ModalState& before, const ModalState& after, const MacroCall* call);
 
+// How much of an envelope to work out. Values: every number and flag as in
+// Full (points, extremes, bounds, end, plane points and spans), without the
+// text that shows them (a point's label, arithmetic and catalog text, the
+// notes, a span's reason): what a rule needs to decide whether it reports,
+// at a fraction of the cost; it asks again in full for the finding. The
+// holes of fixed cycles are always worked out in full.
+enum class EnvelopeDetail : uint8_t { Full, Values };
+
 // The envelope of the motion the block runs on the cycle axis, or nullopt when
 // it runs no macro and no fixed-cycle hole. The holes of a G-code macro cycle
 // read the arguments of earlier blocks (G114 ... L) from the cycle's modal words.
 std::optional<Envelope> cycle_envelope(const Block& block, const ModalState& before, const ModalState& after,
-                                       const MacroCall* call, const Config& config);
-std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& config);
+                                       const MacroCall* call, const Config& config,
+                                       EnvelopeDetail detail = EnvelopeDetail::Full);
+std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& config,
+                                       EnvelopeDetail detail = EnvelopeDetail::Full);
 
 // Where a catalog macro the block runs (a CALL, a positioning block of an open
 // MODIN, a one-shot G-code macro) leaves the tool on the cycle axis: the axis

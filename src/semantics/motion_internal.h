@@ -85,9 +85,11 @@ MotionPoint step_point(const ActionStep& step);
 // Sets the extremes and the bounds of an envelope from its points.
 void finish(Envelope& env);
 
-// `config` nullptr: the + travel limit (M52) is not known.
+// `config` nullptr: the + travel limit (M52) is not known. `describe` false:
+// the numbers and flags only (EnvelopeDetail::Values).
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config* config);
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config,
+                                       bool describe = true);
 // The cycle axis and the `end` of macro_envelope (no travel limit known),
 // when the plane and the end are known: for the transfer step, which needs
 // nothing else of the envelope on every macro call.

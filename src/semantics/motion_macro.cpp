@@ -106,17 +106,17 @@ struct ActionWalk {
 // step does not run (an argument it needs is not given).
 bool target_step(const MacroRun& run, const Lookup& lookup, const ActionStep& step, MotionPoint& p, ActionWalk& walk,
                  Envelope& env) {
-    Evaluated e = evaluate_expr(step.target, &run.spec, lookup, !step.when.empty());
+    Evaluated e = evaluate_expr(step.target, &run.spec, lookup, !step.when.empty(), run.describe);
     if (e.skip) {
-        env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
+        if (run.describe) env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
         return false;
     }
     p.expr = step.target;
     p.mark = mark_for(step.target);
-    p.worked = e.worked;
+    p.worked = std::move(e.worked);
     if (p.possible) {
         if (e.value.known) p.reach = Interval{e.value.value, e.value.value};
-        p.worked += " (runs only if " + step.when.text() + ", not known here)";
+        if (run.describe) p.worked += " (runs only if " + step.when.text() + ", not known here)";
         walk.end_known = false;
     } else {
         p.value = e.value;
@@ -131,9 +131,9 @@ bool target_step(const MacroRun& run, const Lookup& lookup, const ActionStep& st
 // not print, so a possible point either way. False when the step does not run.
 bool stroke_step(const MacroRun& run, const Lookup& lookup, const ActionStep& step, MotionPoint& p, ActionWalk& walk,
                  Envelope& env) {
-    Evaluated e = evaluate_expr(step.by, &run.spec, lookup, false);
+    Evaluated e = evaluate_expr(step.by, &run.spec, lookup, false, run.describe);
     if (e.skip) {
-        env.notes.push_back("step " + step.step + " (by " + step.by + ") skipped: " + e.why);
+        if (run.describe) env.notes.push_back("step " + step.step + " (by " + step.by + ") skipped: " + e.why);
         return false;
     }
     p.expr = "by " + step.by;
@@ -142,12 +142,14 @@ bool stroke_step(const MacroRun& run, const Lookup& lookup, const ActionStep& st
         double len = std::fabs(e.value.value);
         walk.cur = Interval{walk.cur->lo - len, walk.cur->hi + len};
         p.reach = walk.cur;
-        p.worked = "a stroke of " + num(len) + " in a direction the manual does not print: " + num(walk.cur->lo) +
-                   " .. " + num(walk.cur->hi);
+        if (run.describe)
+            p.worked = "a stroke of " + num(len) + " in a direction the manual does not print: " + num(walk.cur->lo) +
+                       " .. " + num(walk.cur->hi);
     } else {
         walk.cur.reset();
-        p.worked = "stroke of unprinted direction; " +
-                   (e.value.known ? std::string("start of the stroke not known") : e.why);
+        if (run.describe)
+            p.worked = "stroke of unprinted direction; " +
+                       (e.value.known ? std::string("start of the stroke not known") : e.why);
     }
     walk.end_known = false;
     env.end = Val<double>{};
@@ -160,15 +162,16 @@ void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, Act
     p.mark = "+lim";
     p.expr = std::string(1, env.axis) + "+ limit";
     if (auto mx = run.config ? travel_max(*run.config, env.axis) : std::nullopt) {
-        p.worked = num(*mx) + " ([machine.travel] " + std::string(1, static_cast<char>(std::tolower(env.axis))) +
-                   " max)";
+        if (run.describe)
+            p.worked = num(*mx) + " ([machine.travel] " + std::string(1, static_cast<char>(std::tolower(env.axis))) +
+                       " max)";
         if (p.possible) p.reach = Interval{*mx, *mx};
         else p.value = Val<double>::of(*mx);
-    } else {
+    } else if (run.describe) {
         p.worked = "the + travel limit ([machine.travel] not configured)";
     }
     if (p.possible) {
-        p.worked += " (runs only if " + step.when.text() + ", not known here)";
+        if (run.describe) p.worked += " (runs only if " + step.when.text() + ", not known here)";
         walk.end_known = false;
     } else {
         walk.end_known = true;
@@ -185,7 +188,8 @@ void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
     for (const auto& step : run.spec.action) {
         Tri cond = step.when.eval(atom);
         if (cond == Tri::False) continue;
-        MotionPoint p = step_point(step);
+        MotionPoint p = run.describe ? step_point(step) : MotionPoint{};
+        p.inferred = step.inferred;
         p.possible = cond == Tri::Unknown;
         if (!step.target.empty()) {
             if (!target_step(run, lookup, step, p, walk, env)) continue;
@@ -321,7 +325,7 @@ bool compensated(const MacroSpec& spec) {
 
 // OG87C: the cutting edge runs round the counterbore circle PC about the
 // centre; steps 3/13 shift the oriented tool by PI/PJ(/PK).
-void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane) {
+void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane, bool describe) {
     const PlaneAxes pa = plane_axes(plane);
     const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
     auto d = spread.known("PC");
@@ -340,14 +344,14 @@ void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread
         if (auto c = spread.centre_of(*ax)) spread.widen(*ax, *c + *v);
     }
     for (auto& [a, iv] : spread.spans())
-        env.plane_spans.push_back({a, iv, "counterbore circle PC=" + num(*d) + " about the centre, tool shift", false,
-                                   compensated(spec), "PC"});
+        env.plane_spans.push_back({a, iv, describe ? "counterbore circle PC=" + num(*d) + " about the centre, tool shift" : "",
+                                   false, compensated(spec), "PC"});
 }
 
 // Keyways and wall finishing: the slot from the start point along PI (keyway:
 // PJ wide; wall finishing: the end-point vector), the start point taken as
 // one end of it.
-void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane) {
+void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane, bool describe) {
     const PlaneAxes pa = plane_axes(plane);
     const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
     const ArgSpec* pi = spec.arg("PI");
@@ -385,26 +389,27 @@ void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane
         }
     }
     for (auto& [a, iv] : spread.spans())
-        env.plane_spans.push_back({a, iv, why + " (start point taken as one end)", true, compensated(spec),
+        env.plane_spans.push_back({a, iv, describe ? why + " (start point taken as one end)" : "", true, compensated(spec),
                                    a == *along ? "PI" : spec.family == "keyway" ? "PJ" : "",
                                    plane != Plane::G17 && a == *along});
 }
 
 void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup, Plane plane,
-                     const std::map<char, double>& centre) {
+                     const std::map<char, double>& centre, bool describe) {
     PlaneSpread spread(spec, lookup, centre);
     if (spec.arg("PC") && spec.family == "back-counterbore") {
-        counterbore_spans(env, spec, spread, plane);
+        counterbore_spans(env, spec, spread, plane, describe);
         return;
     }
     if (spec.family != "keyway" && spec.family != "wall-finishing") return;
-    slot_spans(env, spec, spread, plane);
+    slot_spans(env, spec, spread, plane, describe);
 }
 
 }  // namespace
 
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                       const MacroCall& call, const MacroSpec& spec, const Config* config) {
+                                       const MacroCall& call, const MacroSpec& spec, const Config* config,
+                                       bool describe) {
     Envelope env;
     env.source = MotionSource::Macro;
     env.name = spec.name;
@@ -416,7 +421,7 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
             if (w.range == call.name_range) env.code = w.address + (w.number ? num(*w.number) : w.value_text);
     env.incremental = before.distance.is(Distance::Incremental);
     if (!before.plane.known) {
-        env.notes.push_back("the plane (G17/G18/G19) is not known here, so neither is the cycle axis");
+        if (describe) env.notes.push_back("the plane (G17/G18/G19) is not known here, so neither is the cycle axis");
         finish(env);
         return env;
     }
@@ -425,15 +430,15 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
     env.axis = plane_axes(plane).cycle;
     env.start = before.axis(env.axis);
 
-    const MacroRun run{b, before, after, call, spec, config, plane, env.axis};
+    const MacroRun run{b, before, after, call, spec, config, plane, env.axis, describe};
     const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
     walk_action(run, lookup, env);
-    if (spec.g91 == G91Mode::Unsupported && env.incremental)
+    if (describe && spec.g91 == G91Mode::Unsupported && env.incremental)
         env.notes.push_back(spec.name + " does not work under G91 (its motion is shifted); the envelope is the G90 reading");
-    if (before.units.is(Units::Inch) && spec.units == MacroUnits::MmOnly)
+    if (describe && before.units.is(Units::Inch) && spec.units == MacroUnits::MmOnly)
         env.notes.push_back(spec.name + " works in mm only; the values are taken as written");
 
-    add_plane_spans(env, spec, lookup, plane, plane_centre(run, env));
+    add_plane_spans(env, spec, lookup, plane, plane_centre(run, env), describe);
     finish(env);
     return env;
 }

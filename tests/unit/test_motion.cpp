@@ -92,6 +92,48 @@ const std::string kHead = "O1000\nG15 H1\nG0 G90 X0 Y0\nG56 Z50. H3\n";  // line
 // ---------------------------------------------------------------------------
 // Macros (their action sequences through the catalog)
 
+TEST_CASE("motion_number writes what four-decimal formatting writes, trailing zeros dropped") {
+    // The reference: the value rounded to 1/10000, printed with four decimals
+    // by the standard library, then trimmed.
+    const auto reference = [](double v) {
+        if (!std::isfinite(v)) return std::string("?");
+        double r = std::fabs(v) < 1e15 ? std::round(v * 10000.0) / 10000.0 : v;
+        if (r == 0) r = 0;
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.4f", r);
+        std::string s = buf;
+        while (!s.empty() && s.back() == '0') s.pop_back();
+        if (!s.empty() && s.back() == '.') s.pop_back();
+        return s;
+    };
+    CHECK(motion_number(-37) == "-37");
+    CHECK(motion_number(0.005) == "0.005");
+    CHECK(motion_number(-0.00004) == "0");
+    CHECK(motion_number(-0.00005) == "-0.0001");
+    CHECK(motion_number(12.34567) == "12.3457");
+    CHECK(motion_number(1e12) == "1000000000000");
+    CHECK(motion_number(NAN) == "?");
+    // Values of every magnitude a program writes, and the edges of the
+    // rounding: the same text as the reference, value by value.
+    uint64_t x = 0x9E3779B97F4A7C15ull;
+    const auto next = [&] {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        return x;
+    };
+    int differ = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const double unit = static_cast<double>(next() % 2000001) / 1000000.0 - 1.0;  // [-1, 1]
+        const double scale = std::pow(10.0, static_cast<double>(next() % 15) - 5);   // 1e-5 .. 1e9
+        double v = unit * scale;
+        if (i % 3 == 0) v = std::round(v * 20000.0) / 20000.0;  // on a half of the last digit
+        if (i % 5 == 0) v = static_cast<double>(static_cast<long long>(v * 1000)) / 1000;  // what posts write
+        if (motion_number(v) != reference(v) && ++differ < 5) CHECK(motion_number(v) == reference(v));
+    }
+    CHECK(differ == 0);
+}
+
 TEST_CASE("OZAGR: down to PZ-PI-PL (step 3c), up to PR (step 2)") {
     auto t = trace_text(kHead + "CALL OZAGR PX=10. PY=0 PR=5. PZ=-20. PI=12.\nM30\n");
     const Envelope& e = at_line(t, 5);
@@ -583,6 +625,83 @@ TEST_CASE("the end point the transfer step takes is the end of the envelope the 
                                   "M30\n");
     CHECK(compared > 20);
     CHECK(unknown > 0);
+}
+
+TEST_CASE("an envelope worked out as values only has every number and flag of the full one") {
+    // The travel rules decide on the values and ask for the text only for a
+    // finding: on every block of the corpus, with and without travel limits,
+    // the two must agree on all but the text.
+    int compared = 0, with_text = 0;
+    const auto same_end = [](const std::optional<EnvelopeEnd>& a, const std::optional<EnvelopeEnd>& b) {
+        return a.has_value() == b.has_value() && (!a || (a->value == b->value && a->point == b->point));
+    };
+    auto compare = [&](const std::string& name, const std::string& text, const Config& config) {
+        const auto analysis = osplint::testing::analyze_text(name, text, config);
+        for (const auto& b : analysis.blocks) {
+            const BlockView v = b.view();
+            const auto full = cycle_envelope(v, config);
+            const auto values = cycle_envelope(v, config, EnvelopeDetail::Values);
+            CAPTURE(name);
+            CAPTURE(v.block.line);
+            REQUIRE(full.has_value() == values.has_value());
+            if (!full) continue;
+            ++compared;
+            if (!full->notes.empty() || !full->points.empty()) ++with_text;
+            CHECK(full->source == values->source);
+            CHECK(full->name == values->name);
+            CHECK(full->axis == values->axis);
+            CHECK(full->plane == values->plane);
+            CHECK(full->bounded_low == values->bounded_low);
+            CHECK(full->bounded_high == values->bounded_high);
+            CHECK(same_end(full->lowest, values->lowest));
+            CHECK(same_end(full->highest, values->highest));
+            CHECK(same_end(full->may_low, values->may_low));
+            CHECK(same_end(full->may_high, values->may_high));
+            CHECK(full->limit_point == values->limit_point);
+            CHECK(full->start == values->start);
+            CHECK(full->end == values->end);
+            REQUIRE(full->points.size() == values->points.size());
+            for (size_t i = 0; i < full->points.size(); ++i) {
+                const MotionPoint& f = full->points[i];
+                const MotionPoint& w = values->points[i];
+                CHECK(f.value == w.value);
+                CHECK(f.reach.has_value() == w.reach.has_value());
+                if (f.reach && w.reach) CHECK((f.reach->lo == w.reach->lo && f.reach->hi == w.reach->hi));
+                CHECK(f.possible == w.possible);
+                CHECK(f.inferred == w.inferred);
+                CHECK(f.limit == w.limit);
+                CHECK(f.start == w.start);
+            }
+            REQUIRE(full->plane_points.size() == values->plane_points.size());
+            for (size_t i = 0; i < full->plane_points.size(); ++i) {
+                CHECK(full->plane_points[i].axis == values->plane_points[i].axis);
+                CHECK(full->plane_points[i].value == values->plane_points[i].value);
+                CHECK(full->plane_points[i].what == values->plane_points[i].what);
+            }
+            REQUIRE(full->plane_spans.size() == values->plane_spans.size());
+            for (size_t i = 0; i < full->plane_spans.size(); ++i) {
+                const PlaneSpan& f = full->plane_spans[i];
+                const PlaneSpan& w = values->plane_spans[i];
+                CHECK((f.axis == w.axis && f.range.lo == w.range.lo && f.range.hi == w.range.hi));
+                CHECK((f.inferred == w.inferred && f.compensated == w.compensated && f.either_way == w.either_way));
+                CHECK(f.arg == w.arg);
+            }
+            CHECK(travel_violations(*full, config).size() == travel_violations(*values, config).size());
+        }
+    };
+    Config travel;
+    travel.travel['X'] = TravelLimit{-20, 20};
+    travel.travel['Y'] = TravelLimit{-30, 30};
+    travel.travel['Z'] = TravelLimit{-25, 60};
+    for (const auto& f : osplint::testing::corpus_files()) {
+        std::ifstream in(f, std::ios::binary);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        compare(f.string(), ss.str(), Config{});
+        compare(f.string(), ss.str(), travel);
+    }
+    CHECK(compared > 100);
+    CHECK(with_text > 50);
 }
 
 TEST_CASE("unknown values stay unknown") {
