@@ -14,12 +14,16 @@
 # time, MB/s and peak RSS (`/usr/bin/time`), the floor's time on the same file
 # and the ratio, and the findings. Times are wall-clock times, the best of N
 # runs (other processes may share the machine); the peak RSS is the largest
-# of the runs. `check --format json` for every shape; the travel shape (every
+# of the runs. `check --format json` for every shape, then again with the
+# travel limits of DIR/travel.toml (row SHAPE+limits: a machine configured as
+# users configure theirs, where every macro call and hole is also checked
+# against the travel; no finding, the programs stay inside it); the travel shape (every
 # Z below the Z travel of DIR/travel.toml, one finding per block) as folded by
 # default, then in every output format with --fold 0, so that every finding
 # is written (to /dev/null). Then `-j 1` against `-j 2` on 100 files of 1 MB, lsp_edit
 # (unless --no-lsp; its edits on every shape given), and the targets, at the largest size:
-#   * every shape: at most 3x the floor's time and a peak RSS of at most 64 MB
+#   * every shape, with and without the travel limits: at most 3x the floor's
+#     time and a peak RSS of at most 64 MB
 #     (travel: as folded by default; writing a million findings or more in full
 #     is not a scan of the input);
 #   * travel (1,000,000+ findings from 20 MB on): peak RSS at most 64 MB in every format;
@@ -72,13 +76,17 @@ if [[ ! -x $dir/wordscan || $root/bench/wordscan.cpp -nt $dir/wordscan ]]; then
   c++ -O2 -o "$dir/wordscan" "$root/bench/wordscan.cpp"
 fi
 
-# The Z stroke of examples/osplint.toml, for the travel shape only (--config).
+# A machine's travel (the Z stroke of examples/osplint.toml): the travel
+# shape and the +limits rows (--config).
 cat >"$dir/travel.toml" <<'EOF'
-# bench/run.sh: the travel shape's machine (every Z of the program is below -300).
+# bench/run.sh: a machine's travel. Every Z of the travel shape is below -300;
+# the other shapes stay inside (their +limits rows).
 [machine]
 units = "mm"
 plane = "G17"
 [machine.travel]
+x = [-560.0, 560.0]
+y = [-460.0, 460.0]
 z = [-300.0, 150.0]
 EOF
 
@@ -155,6 +163,9 @@ for shape in $shapes; do
       read -r t m < <(best_of "$dir/report.json" "$repeat" "$osplint" check --format json "$f")
       secs[$shape,$s]=$t rss_of[$shape,$s]=$m
       row "$shape" "$s" "$b" "$t" "$m" "$w" "$(findings_json "$dir/report.json")"
+      read -r t m < <(best_of "$dir/report.json" "$repeat" "$osplint" check --config "$dir/travel.toml" --format json "$f")
+      secs[$shape+limits,$s]=$t rss_of[$shape+limits,$s]=$m floor_of[$shape+limits,$s]=$w
+      row "$shape+limits" "$s" "$b" "$t" "$m" "$w" "$(findings_json "$dir/report.json")"
       continue
     fi
     # The count, from the summary line of a folded text report (small).
@@ -210,7 +221,12 @@ check() {  # check NAME CONDITION-AWK-EXPRESSION
   if awk "BEGIN{exit !($2)}"; then echo "target met:    $1"; else echo "target missed: $1"; status=1; fi
 }
 mb() { awk -v k="$1" 'BEGIN{printf "%.1f", k / 1024}'; }
+rows=""
 for shape in $shapes; do
+  rows+=" $shape"
+  [[ $shape != travel ]] && rows+=" $shape+limits"
+done
+for shape in $rows; do
   t=${secs[$shape,$last]} w=${floor_of[$shape,$last]} m=${rss_of[$shape,$last]}
   ratio=$(awk -v t="$t" -v w="$w" 'BEGIN{r = w > 0 ? t / w : 0; printf "%.1f", r}')
   what=$shape

@@ -10,7 +10,9 @@ namespace osplint::motion_detail {
 
 
 bool contains_ci(std::string_view hay, std::string_view needle) {
-    return upper(hay).find(upper(needle)) != std::string::npos;
+    const auto up = [](char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; };
+    return std::search(hay.begin(), hay.end(), needle.begin(), needle.end(),
+                       [&](char a, char b) { return up(a) == up(b); }) != hay.end() || needle.empty();
 }
 
 // --- Tri-state values ------------------------------------------------------------

@@ -173,9 +173,8 @@ ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveC
 // The macro's own sequence (OG84L: R, Z+L, R), with R and Z as the cycle holds them.
 void add_macro_sequence(const Block& b, const ModalState& before, const ActiveCycle& c, const MacroSpec& macro,
                         const HoleLevels& levels, Envelope& env) {
-    const Lookup lookup = [&](const std::string& name) {
-        return cycle_macro_arg(b, before, c, macro, levels, name);
-    };
+    const auto arg = [&](const std::string& name) { return cycle_macro_arg(b, before, c, macro, levels, name); };
+    const Lookup lookup = arg;
     const ArgValue& r = levels.r;
     for (const auto& step : macro.action) {
         if (step.target.empty()) continue;

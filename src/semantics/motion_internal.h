@@ -18,6 +18,7 @@
 
 #include "catalog/catalog.h"
 #include "semantics/motion.h"
+#include "support/function_ref.h"
 #include "support/text.h"
 
 namespace osplint::motion_detail {
@@ -63,7 +64,8 @@ struct Evaluated {
     std::string why;     // why skipped / unknown
 };
 
-using Lookup = std::function<ArgValue(const std::string&)>;
+// Refers to a callable the caller keeps alive (a named lambda), not a copy.
+using Lookup = FunctionRef<ArgValue(const std::string&)>;
 
 // Evaluates a catalog expression (a sum of argument names and numbers) with
 // the argument values `lookup` gives. `conditional`: the step has a `when`, so

@@ -111,9 +111,11 @@ bool target_step(const MacroRun& run, const Lookup& lookup, const ActionStep& st
         if (run.describe) env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
         return false;
     }
-    p.expr = step.target;
-    p.mark = mark_for(step.target);
-    p.worked = std::move(e.worked);
+    if (run.describe) {
+        p.expr = step.target;
+        p.mark = mark_for(step.target);
+        p.worked = std::move(e.worked);
+    }
     if (p.possible) {
         if (e.value.known) p.reach = Interval{e.value.value, e.value.value};
         if (run.describe) p.worked += " (runs only if " + step.when.text() + ", not known here)";
@@ -136,7 +138,7 @@ bool stroke_step(const MacroRun& run, const Lookup& lookup, const ActionStep& st
         if (run.describe) env.notes.push_back("step " + step.step + " (by " + step.by + ") skipped: " + e.why);
         return false;
     }
-    p.expr = "by " + step.by;
+    if (run.describe) p.expr = "by " + step.by;
     p.possible = true;
     if (walk.cur && e.value.known) {
         double len = std::fabs(e.value.value);
@@ -431,7 +433,8 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
     env.start = before.axis(env.axis);
 
     const MacroRun run{b, before, after, call, spec, config, plane, env.axis, describe};
-    const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
+    const auto arg = [&](const std::string& name) { return run.arg(name); };
+    const Lookup lookup = arg;
     walk_action(run, lookup, env);
     if (describe && spec.g91 == G91Mode::Unsupported && env.incremental)
         env.notes.push_back(spec.name + " does not work under G91 (its motion is shifted); the envelope is the G90 reading");
@@ -449,7 +452,8 @@ std::optional<std::pair<char, double>> macro_end_point(const Block& b, const Mod
     if (!before.plane.known) return std::nullopt;
     const char axis = plane_axes(before.plane.value).cycle;
     const MacroRun run{b, before, after, call, spec, nullptr, before.plane.value, axis, /*describe=*/false};
-    const Lookup lookup = [&](const std::string& name) { return run.arg(name); };
+    const auto arg = [&](const std::string& name) { return run.arg(name); };
+    const Lookup lookup = arg;
     const Val<double> end = action_end(run, lookup, axis);
     if (!end.known) return std::nullopt;
     return std::pair{axis, end.value};
