@@ -140,7 +140,7 @@ print(s["error"] + s["warning"] + s["info"])' "$1" 2>/dev/null || echo "?"
 row() {  # row NAME SIZE BYTES SECONDS RSS_KB FLOOR_SECONDS FINDINGS
   awk -v n="$1" -v s="$2 MB" -v b="$3" -v t="$4" -v m="$5" -v w="$6" -v f="$7" 'BEGIN{
     mbs = t > 0 ? b / 1e6 / t : 0; ratio = w > 0 ? t / w : 0;
-    printf "%-14s %-7s %11d %10.3f %8.1f %12.1f %8.3f %7.2f %10s\n", n, s, b, t, mbs, m / 1024, w, ratio, f }'
+    printf "%-16s %-7s %11d %10.3f %8.1f %12.1f %8.3f %7.2f %10s\n", n, s, b, t, mbs, m / 1024, w, ratio, f }'
 }
 
 for shape in $shapes; do
@@ -150,7 +150,7 @@ done
 echo "osplint: $osplint"
 echo "machine: $(nproc) cores, $(uname -sr), load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "check --format json (travel: folded as by default, then every format with --fold 0, to /dev/null); best of $repeat"
-printf '%-14s %-7s %11s %10s %8s %12s %8s %7s %10s\n' shape size bytes osplint_s MB/s peak_RSS_MB floor_s ratio findings
+printf '%-16s %-7s %11s %10s %8s %12s %8s %7s %10s\n' shape size bytes osplint_s MB/s peak_RSS_MB floor_s ratio findings
 declare -A secs rss_of floor_of findings_of
 for shape in $shapes; do
   for s in $sizes; do
