@@ -1,6 +1,8 @@
 // OSP301 cycle-axis-out-of-travel: a macro call, a fixed-cycle hole or a
 // positioning move takes an axis outside `[machine.travel]`.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "semantics/config.h"
@@ -95,6 +97,23 @@ public:
 
     // A plain move read without its block: the same check as check_block's.
     bool takes_plain_values() const override { return true; }
+    // A plain move in absolute mode moves each axis to its word's value, and
+    // in an unknown mode to no known position: a value inside the travel on
+    // both sides of 0 is nothing to report. An axis without limits is never
+    // past them; one whose travel does not hold 0 inside has no such bound.
+    std::optional<std::array<double, 3>> quiet_below(const Config& config) const override {
+        std::array<double, 3> below;
+        for (size_t i = 0; i < 3; ++i) {
+            const auto it = config.travel.find(static_cast<char>('X' + i));
+            if (it == config.travel.end()) {
+                below[i] = std::numeric_limits<double>::infinity();
+                continue;
+            }
+            below[i] = std::min(-it->second.min, it->second.max);
+            if (!(below[i] > 0)) return std::nullopt;
+        }
+        return below;
+    }
     void check_plain_move(RuleContext& ctx, const PlainMoveView& v) override {
         const Config& config = ctx.config();
         if (config.travel.empty()) return;

@@ -266,10 +266,8 @@ void Walk::restore(const WalkCheckpoint& c) {
     subprogram_ = f.subprogram;
     program_ = f.program_info;
     rules_.clear();
-    plain_rules_.clear();
     for (const auto& r : f.rules) rules_.push_back(r->clone());
-    for (auto& r : rules_)
-        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    index_plain_rules();
     filter_->set_used(f.used);
     positions_.restore(f.marks);
     if (f.folder) folder_ = *f.folder;
@@ -497,9 +495,7 @@ void Walk::reset_to_start() {
     loop_states_left_ = kLoopStates;
     rules_.clear();
     if (options_.run_rules) rules_ = select_rules(*options_.rules, config_, options_.only_rules);
-    plain_rules_.clear();
-    for (auto& r : rules_)
-        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    index_plain_rules();
     filter_->set_used(initial_used_);
     positions_.restore(Positions::Marks{});
     folder_ = Folder(options_.fold);

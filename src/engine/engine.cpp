@@ -44,8 +44,7 @@ std::string Walk::run() {
     folder_ = Folder(options_.fold);
 
     if (options_.run_rules) rules_ = select_rules(*options_.rules, config_, options_.only_rules);
-    for (auto& r : rules_)
-        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    index_plain_rules();
     plain_ok_ = plain_moves_possible(config_.catalog);
     runs_ok_ = !options_.checkpoints && !options_.observer;
     filter_.emplace(outline_, *options_.rules, config_,
@@ -208,6 +207,7 @@ void Walk::walk_blocks() {
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
         if (rules_idle() && skim_run(kRunLines, flow_.end())) continue;
+        if (FastLineParser::IntDigits digits; rules_quiet(digits) && skim_run(kRunLines, flow_.end(), digits)) continue;
         const Next next = read_for_rules(b, line);
         if (next == Next::End) break;
         if (next == Next::Checked) continue;
@@ -434,6 +434,11 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
         }
         if (rules_idle())
             if (const uint32_t k = skim_run(kRunLines, end)) {
+                index += k - 1;
+                continue;
+            }
+        if (FastLineParser::IntDigits digits; rules_quiet(digits))
+            if (const uint32_t k = skim_run(kRunLines, end, digits)) {
                 index += k - 1;
                 continue;
             }
@@ -719,7 +724,7 @@ bool Walk::skim_checked(const LineRef& line) {
 // one on, while each is a plain move skim would apply, up to `max_lines`,
 // the block before `start_limit` and the next block a loop edge or a loop
 // head makes a join. Returns the blocks read.
-uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit) {
+uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit, FastLineParser::IntDigits int_digits) {
     if (max_lines == 0 || !runs_ok_) return 0;
     const std::string_view text = main_.buffered();
     // Most other lines are told by their first word (a sequence name, a
@@ -741,9 +746,11 @@ uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit) {
     const uint64_t end_limit = std::min<uint64_t>(flow_.end(), kMaxInputSize + 1);
     const uint32_t first_line = main_.next_line();
     const auto run = parser_.plain_run(text, at, max_lines, start_limit, end_limit, first_line,
-                                       Positions::kCheckpointLines, [&](size_t start, uint32_t line) {
+                                       Positions::kCheckpointLines,
+                                       [&](size_t start, uint32_t line) {
                                            positions_.note_line(LineRef{{}, {}, line, at + static_cast<uint32_t>(start)});
-                                       });
+                                       },
+                                       int_digits);
     if (run.lines == 0) return 0;
     main_.skip_buffered(run.bytes, run.lines, run.last_start);
     partial_ = nullptr;
@@ -776,6 +783,45 @@ bool Walk::rules_idle() const {
     for (const Rule* r : plain_rules_)
         if (r->wants_plain_moves()) return false;
     return true;
+}
+
+bool Walk::rules_quiet(FastLineParser::IntDigits& digits) const {
+    digits.fill(FastLineParser::kAnyDigits);
+    bool any = false;
+    for (size_t i = 0; i < plain_rules_.size(); ++i) {
+        if (!plain_rules_[i]->wants_plain_moves()) continue;
+        if (!plain_digits_[i]) return false;
+        any = true;
+        for (size_t k = 0; k < 3; ++k) digits[k] = std::min(digits[k], (*plain_digits_[i])[k]);
+    }
+    return any;
+}
+
+void Walk::index_plain_rules() {
+    plain_rules_.clear();
+    plain_digits_.clear();
+    for (auto& r : rules_) {
+        if (!r->sees_plain_moves(config_)) continue;
+        plain_rules_.push_back(r.get());
+        std::optional<FastLineParser::IntDigits> digits;
+        if (const auto below = r->quiet_below(config_)) {
+            // A value with k digits before its point is below 10^k: the most
+            // digits whose every value is below the bound (none below 1).
+            digits.emplace();
+            for (size_t k = 0; k < 3 && digits; ++k) {
+                const double b = (*below)[k];
+                if (!(b >= 1)) {
+                    digits.reset();
+                    break;
+                }
+                uint8_t n = 0;
+                double p = 10;
+                while (n < 15 && p <= b) ++n, p *= 10;
+                (*digits)[k] = n == 15 ? FastLineParser::kAnyDigits : n;
+            }
+        }
+        plain_digits_.push_back(digits);
+    }
 }
 
 void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
@@ -832,9 +878,7 @@ bool Walk::walk_speculatively(uint32_t start, uint32_t start_line, uint64_t end,
     if (converged_) return true;  // the previous analysis's walk from there on stood
     if (end_speculation()) return true;
     rules_ = std::move(before.rules);
-    plain_rules_.clear();
-    for (auto& r : rules_)
-        if (r->sees_plain_moves(config_)) plain_rules_.push_back(r.get());
+    index_plain_rules();
     folder_ = std::move(before.folder);
     filter_->set_used(before.used);
     if (fingerprints_) occurrences_ = std::move(before.occurrences);

@@ -10,6 +10,7 @@
 // takes_plain_values). Rules never walk the program themselves.
 #pragma once
 
+#include <array>
 #include <concepts>
 #include <memory>
 #include <optional>
@@ -203,6 +204,15 @@ public:
     // walk that shows every rule every block).
     virtual bool takes_plain_values() const { return false; }
     virtual void check_plain_move(RuleContext&, const PlainMoveView&) {}
+    // For X, Y and Z, a magnitude under which an axis word of a plain move
+    // (without a sequence name, in absolute mode or an unknown one) does not
+    // matter to the rule: a move whose every axis word is smaller than its
+    // axis's bound makes check_plain_move do nothing at all. nullopt: any
+    // plain move may matter. While every rule that wants plain moves gives
+    // bounds, a batch analysis applies runs of such moves at once, as when
+    // none wants them (Walk::skim_run); a move that may pass a bound is
+    // shown to the rules one by one.
+    virtual std::optional<std::array<double, 3>> quiet_below(const Config&) const { return std::nullopt; }
     virtual void end_program(RuleContext&, const ProgramView&) {}
     // A copy of the rule with its state (the engine's checkpoints, from which
     // the language server re-analyses a document after an edit).

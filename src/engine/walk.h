@@ -305,7 +305,9 @@ private:
     bool skim_checked(const LineRef& line);
     enum class Next { Block, Checked, End };
     Next read_for_rules(Block& b, LineRef& line);
-    uint32_t skim_run(uint32_t max_lines, uint64_t start_limit);
+    uint32_t skim_run(uint32_t max_lines, uint64_t start_limit,
+                      FastLineParser::IntDigits int_digits = {FastLineParser::kAnyDigits, FastLineParser::kAnyDigits,
+                                                              FastLineParser::kAnyDigits});
     // The most lines skim_run may read in a sweep from its `index`-th block:
     // up to the next probe (converged() looks at that block).
     static uint32_t probe_gap(uint32_t index) {
@@ -313,6 +315,12 @@ private:
     }
     static constexpr uint32_t kRunLines = 1u << 16;  // ... in the walk with the rules
     bool rules_idle() const;
+    // Whether the walk with the rules may apply a run of plain moves at once:
+    // every rule that wants plain moves gives bounds (Rule::quiet_below);
+    // `digits` is what the run's axis words may then have before their points.
+    bool rules_quiet(FastLineParser::IntDigits& digits) const;
+    // plain_rules_ and plain_digits_ from rules_.
+    void index_plain_rules();
     // Whether skim_run may read past lines: not for the language server's
     // checkpoints (taken at blocks: mark_loop) or an analysis that may end early.
     bool runs_ok_ = false;
@@ -385,6 +393,8 @@ private:
     FileOutline outline_;
     std::vector<std::unique_ptr<Rule>> rules_;
     std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
+    // Of each of them, its quiet_below as digits before the point (nullopt: none).
+    std::vector<std::optional<FastLineParser::IntDigits>> plain_digits_;
     bool plain_ok_ = true;            // plain_moves_possible with this catalog
     std::optional<SuppressionFilter> filter_;
     ProgramNames names_;              // this file's program names

@@ -93,9 +93,15 @@ public:
     // (offsets of the file). Stops before any other line. The first line is
     // line `first_line`; `every_nth(start, line)` is told the start (in
     // `text`) of each line read whose number is a multiple of `nth`.
+    // `int_digits`: for X, Y and Z, the most digits a word's value may have
+    // before its point (so its magnitude is below 10 to that power); the run
+    // also stops before a line with a word of more (kAnyDigits: no bound).
+    static constexpr uint8_t kAnyDigits = 255;
+    using IntDigits = std::array<uint8_t, 3>;
     PlainRun plain_run(std::string_view text, uint32_t base, uint32_t max_lines, uint64_t start_limit,
                        uint64_t end_limit, uint32_t first_line, uint32_t nth,
-                       FunctionRef<void(size_t, uint32_t)> every_nth);
+                       FunctionRef<void(size_t, uint32_t)> every_nth,
+                       IntDigits int_digits = {kAnyDigits, kAnyDigits, kAnyDigits});
 
     // Whether the last line parsed is a plain move (analyzer.h:
     // is_plain_move_block) of the simplest shape: glued literal words only. A

@@ -27,11 +27,12 @@ constexpr uint32_t kNone = UINT32_MAX;
 // Where the last word of each address of a line starts (the address
 // letter), by slot of kAddress; kNone where it has none.
 using LineWords = std::array<uint32_t, kSlots>;
+using IntDigits = FastLineParser::IntDigits;
 
 // The byte-by-byte check of the line at p: whether it is a plain move of the
 // strictest shape (spaces, then X Y Z F words `X-12.5` and G0 to G3, glued
 // or separated by spaces), whole in s[0, n); sets `end` to its terminator.
-bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) {
+bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out, const IntDigits& int_digits) {
     out.fill(kNone);
     bool words = false;
     size_t q = p;
@@ -47,6 +48,7 @@ bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) 
         if (slot != 4 && q < n && (s[q] == '+' || s[q] == '-')) ++q;
         size_t digits = 0;
         while (q < n && is_digit(s[q])) ++q, ++digits;
+        if (slot < 3 && digits > int_digits[slot]) return false;  // may be past a bound: not in a run
         if (slot == 4) {
             // G0 to G3, digits only (G00 ... G03).
             if (digits == 0 || digits > 2 || s[q - 1] > '3' || (digits == 2 && s[q - 2] != '0')) return false;
@@ -64,6 +66,28 @@ bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out) 
     end = q;
     return true;
 }
+
+#if OSPLINT_QUICK_LINES
+// Whether a word of the quick line has more digits before its point than
+// `int_digits` allows its axis.
+bool quick_digits_over(const char* s, const QuickLine& line, const IntDigits& int_digits) {
+    const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s));
+    const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s + 16));
+    const uint64_t digit = digits_in(lo, hi);
+    const uint64_t sign = equal_to(lo, hi, '-') | equal_to(lo, hi, '+');
+    const uint64_t axes[3] = {line.x, line.y, line.z};
+    for (size_t k = 0; k < 3; ++k) {
+        if (!axes[k] || int_digits[k] >= 16) continue;  // a value has 15 digits at most
+        // Where each value's digits start: after the address and its sign.
+        const uint64_t after = axes[k] << 1;
+        uint64_t over = (after & ~sign) | ((after & sign) << 1);
+        // A run of int_digits + 1 digits from there.
+        for (unsigned j = 0; j <= int_digits[k] && over; ++j) over &= digit >> j;
+        if (over) return true;
+    }
+    return false;
+}
+#endif
 
 // The value of the word whose address is at s[begin], accepted by line_words.
 PlainMoveWord read_word(const char* s, uint32_t begin, uint32_t base, size_t slot) {
@@ -86,7 +110,9 @@ PlainMoveWord read_word(const char* s, uint32_t begin, uint32_t base, size_t slo
 FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32_t base, uint32_t max_lines,
                                                    uint64_t start_limit, uint64_t end_limit,
                                                    uint32_t first_line, uint32_t nth,
-                                                   FunctionRef<void(size_t, uint32_t)> every_nth) {
+                                                   FunctionRef<void(size_t, uint32_t)> every_nth,
+                                                   IntDigits int_digits) {
+    const bool bounded = int_digits[0] < 16 || int_digits[1] < 16 || int_digits[2] < 16;
     std::array<uint32_t, kSlots> last;  // where the last word of each address starts
     last.fill(kNone);
     const char* const s = text.data();
@@ -103,13 +129,14 @@ FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32
         if (n - p > 32) {
             const int e = quick_line_end(s + p);
             if (e >= 0 && quick_line(s + p, e, line)) {
+                if (bounded && quick_digits_over(s + p, line, int_digits)) break;
                 q = p + static_cast<size_t>(e);
                 quick = true;
             }
         }
 #endif
         if (!quick) {
-            if (!line_words(s, n, p, q, words)) break;
+            if (!line_words(s, n, p, q, words, int_digits)) break;
         }
         size_t next = q + 1;
         if (s[q] == '\r') {

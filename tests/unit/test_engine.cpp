@@ -475,7 +475,7 @@ TEST_CASE("engine: plain moves in every modal state give the reference's result"
     config.rule_severity["OSP003"] = Severity::Warning;  // off by default; it sees plain moves with a name
     std::mt19937 rng(777);
     std::map<std::string, int> seen;
-    uint64_t value_blocks = 0;
+    uint64_t value_blocks = 0, run_blocks = 0;
     for (int i = 0; i < 400; ++i) {
         const std::string text = plain_move_program(rng);
         compare_checks("plain" + std::to_string(i) + ".min", text, config);
@@ -484,12 +484,57 @@ TEST_CASE("engine: plain moves in every modal state give the reference's result"
         options.stats = &st;
         for (const auto& d : check_text("p.min", text, config, options).diagnostics) ++seen[d.rule];
         value_blocks += st.value_blocks;
+        run_blocks += st.run_blocks;
     }
     // The rules that look at plain moves had findings to compare.
     for (const char* id : {"OSP003", "OSP004", "OSP212", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
     // While only OSP301 (which takes a move's values) wants plain moves, the
-    // walk with the rules checks them without building their blocks.
+    // walk with the rules checks them without building their blocks, and
+    // applies a run of them at once where no axis word can be past the
+    // travel (Rule::quiet_below).
     CHECK(value_blocks > 1000);
+    CHECK(run_blocks > 50);
+}
+
+TEST_CASE("engine: with travel limits, runs of moves inside them are applied at once and the others still reported") {
+    // Moves whose every axis word has fewer digits before its point than the
+    // travel allows on both sides go by a run at a time; a move that may be
+    // past it (100 or more here) is shown to OSP301, which reports the ones
+    // that are. The same findings as the reference, which sees every block.
+    Config config;
+    config.travel['X'] = TravelLimit{-300, 300};
+    config.travel['Y'] = TravelLimit{-200, 200};
+    config.travel['Z'] = TravelLimit{-150, 100};
+    std::mt19937 rng(99);
+    std::string text = "O1000\nG15 H1\nG90 G0 X0 Y0\nG56 Z50. H1\nS1000 M3\nG1 F400\n";
+    int past = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const int kind = static_cast<int>(rng() % 100);
+        if (kind == 0) {
+            text += "X350. Y10.\n";  // past X
+            ++past;
+        } else if (kind == 1) {
+            text += "Z-160.5\n";  // past Z
+            ++past;
+        } else if (kind == 2) {
+            text += "X250. Y-150. Z99.9\n";  // 100 or more, inside
+        } else {
+            text += "X" + std::to_string(static_cast<int>(rng() % 199) - 99) + "." + std::to_string(rng() % 10) +
+                    " Y-" + std::to_string(rng() % 99) + ". Z-" + std::to_string(rng() % 50) + ".5\n";
+        }
+    }
+    text += "M5\nM30\n";
+    compare_checks("runs.min", text, config);
+    EngineStats st;
+    AnalysisOptions options;
+    options.stats = &st;
+    options.fold = 0;
+    int reported = 0;
+    for (const auto& d : check_text("runs.min", text, config, options).diagnostics) reported += d.rule == "OSP301";
+    CHECK(reported == past);
+    CHECK(past > 20);
+    CHECK(st.run_blocks > 2500);
+    CHECK(st.value_blocks > 20);
 }
 
 TEST_CASE("engine: plain moves around jumps and loops give the reference's result") {

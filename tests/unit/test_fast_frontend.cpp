@@ -628,6 +628,45 @@ TEST_CASE("fast front end: plain_run reads the lines of the strictest plain-move
     CHECK(run.last.words[4].range == ByteRange{24, 26});
 }
 
+TEST_CASE("fast front end: plain_run stops before a move with an axis word of more digits before its point than allowed") {
+    // Both checks of a line (32 bytes at a time, and byte by byte) against
+    // the digits of each X, Y and Z word counted here.
+    std::mt19937 rng(20261205);
+    FastLineParser p;
+    size_t kept = 0, stopped = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const std::string line = random_move_line(rng);
+        std::vector<PlainMoveWord> want;
+        if (!strict_plain_move(line, want)) continue;
+        FastLineParser::IntDigits limit;
+        for (auto& d : limit) d = rng() % 4 == 0 ? FastLineParser::kAnyDigits : static_cast<uint8_t>(rng() % 5);
+        bool within = true;
+        for (size_t q = 0; q < line.size(); ++q) {
+            const char c = line[q];
+            if (c != 'X' && c != 'Y' && c != 'Z') continue;
+            size_t k = q + 1;
+            if (k < line.size() && (line[k] == '-' || line[k] == '+')) ++k;
+            size_t digits = 0;
+            while (k < line.size() && line[k] >= '0' && line[k] <= '9') ++k, ++digits;
+            if (digits > limit[static_cast<size_t>(c - 'X')]) within = false;
+        }
+        for (const std::string& after : {std::string("M30") + std::string(80, ' '), std::string("M")}) {
+            const std::string text = line + "\n" + after;
+            const auto run = p.plain_run(text, 0, 10, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {}, limit);
+            REQUIRE_MESSAGE(run.lines == (within ? 1u : 0u),
+                            "'" << line << "' limits " << int(limit[0]) << " " << int(limit[1]) << " " << int(limit[2]));
+        }
+        ++(within ? kept : stopped);
+    }
+    CHECK(kept > 20000);
+    CHECK(stopped > 20000);
+    // A run goes on past the moves inside, up to the first one that may not be.
+    const std::string text = "X12.5 Y-3.\nX99.999 Z-.5\nX100. Y1.\nX1.\nM30\n" + std::string(80, ' ');
+    const auto run = p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {}, {2, 2, 2});
+    CHECK(run.lines == 2);
+    CHECK(p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {}, {3, 1, 1}).lines == 4);
+}
+
 TEST_CASE("fast front end: parse_moves reads random plain moves, with or without a sequence name, as parse does") {
     // Numbers of 0 to 17 digits each side of the point, a sequence name
     // glued or not, other bytes put in at random.
