@@ -467,11 +467,17 @@ TEST_CASE("plain moves: apply_plain_move is apply_block on them") {
     CHECK(plain > 10000);
 }
 
-TEST_CASE("engine: plain moves in every modal state give the reference's result") {
+// The X, Y and Z travel of a machine, for the tests of plain moves.
+static Config with_travel(double z_min) {
     Config config;
     config.travel['X'] = TravelLimit{-300, 300};
     config.travel['Y'] = TravelLimit{-200, 200};
-    config.travel['Z'] = TravelLimit{-300, 100};
+    config.travel['Z'] = TravelLimit{z_min, 100};
+    return config;
+}
+
+TEST_CASE("engine: plain moves in every modal state give the reference's result") {
+    Config config = with_travel(-300);
     config.rule_severity["OSP003"] = Severity::Warning;  // off by default; it sees plain moves with a name
     std::mt19937 rng(777);
     std::map<std::string, int> seen;
@@ -501,10 +507,7 @@ TEST_CASE("engine: with travel limits, runs of moves inside them are applied at 
     // travel allows on both sides go by a run at a time; a move that may be
     // past it (100 or more here) is shown to OSP301, which reports the ones
     // that are. The same findings as the reference, which sees every block.
-    Config config;
-    config.travel['X'] = TravelLimit{-300, 300};
-    config.travel['Y'] = TravelLimit{-200, 200};
-    config.travel['Z'] = TravelLimit{-150, 100};
+    const Config config = with_travel(-150);
     std::mt19937 rng(99);
     std::string text = "O1000\nG15 H1\nG90 G0 X0 Y0\nG56 Z50. H1\nS1000 M3\nG1 F400\n";
     int past = 0;
@@ -541,10 +544,7 @@ TEST_CASE("engine: plain moves around jumps and loops give the reference's resul
     // The walk with the rules reads plain moves in part too; a loop's head,
     // a block no path reaches and a block the state makes more than a move
     // are parsed whole. Travel limits make the rules look at every move.
-    Config config;
-    config.travel['X'] = TravelLimit{-300, 300};
-    config.travel['Y'] = TravelLimit{-200, 200};
-    config.travel['Z'] = TravelLimit{-300, 100};
+    Config config = with_travel(-300);
     config.rule_severity["OSP003"] = Severity::Warning;
     std::mt19937 rng(4242);
     std::map<std::string, int> seen;
