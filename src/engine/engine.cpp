@@ -207,7 +207,7 @@ void Walk::walk_blocks() {
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
         if (rules_idle() && skim_run(kRunLines, flow_.end())) continue;
-        if (FastLineParser::IntDigits digits; rules_quiet(digits) && skim_run(kRunLines, flow_.end(), digits)) continue;
+        if (quiet_run(kRunLines, flow_.end())) continue;
         const Next next = read_for_rules(b, line);
         if (next == Next::End) break;
         if (next == Next::Checked) continue;
@@ -437,11 +437,10 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
                 index += k - 1;
                 continue;
             }
-        if (FastLineParser::IntDigits digits; rules_quiet(digits))
-            if (const uint32_t k = skim_run(kRunLines, end, digits)) {
-                index += k - 1;
-                continue;
-            }
+        if (const uint32_t k = quiet_run(kRunLines, end)) {
+            index += k - 1;
+            continue;
+        }
         const Next next = read_for_rules(b, line);
         if (next == Next::End) break;
         if (next == Next::Checked) continue;
@@ -725,6 +724,7 @@ bool Walk::skim_checked(const LineRef& line) {
 // the block before `start_limit` and the next block a loop edge or a loop
 // head makes a join. Returns the blocks read.
 uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit, FastLineParser::IntDigits int_digits) {
+    run_over_ = false;
     if (max_lines == 0 || !runs_ok_) return 0;
     const std::string_view text = main_.buffered();
     // Most other lines are told by their first word (a sequence name, a
@@ -751,6 +751,7 @@ uint32_t Walk::skim_run(uint32_t max_lines, uint64_t start_limit, FastLineParser
                                            positions_.note_line(LineRef{{}, {}, line, at + static_cast<uint32_t>(start)});
                                        },
                                        int_digits);
+    run_over_ = run.over;
     if (run.lines == 0) return 0;
     main_.skip_buffered(run.bytes, run.lines, run.last_start);
     partial_ = nullptr;
@@ -795,6 +796,23 @@ bool Walk::rules_quiet(FastLineParser::IntDigits& digits) const {
         for (size_t k = 0; k < 3; ++k) digits[k] = std::min(digits[k], (*plain_digits_[i])[k]);
     }
     return any;
+}
+
+uint32_t Walk::quiet_run(uint32_t max_lines, uint64_t start_limit) {
+    if (quiet_wait_ > 0) {
+        --quiet_wait_;
+        return 0;
+    }
+    FastLineParser::IntDigits digits;
+    if (!rules_quiet(digits)) return 0;
+    const uint32_t k = skim_run(max_lines, start_limit, digits);
+    if (k > 0) {
+        quiet_backoff_ = 0;
+    } else if (run_over_) {
+        quiet_backoff_ = std::min<uint32_t>(quiet_backoff_ * 2 + 1, 63);
+        quiet_wait_ = quiet_backoff_;
+    }
+    return k;
 }
 
 void Walk::index_plain_rules() {

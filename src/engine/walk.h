@@ -319,6 +319,13 @@ private:
     // every rule that wants plain moves gives bounds (Rule::quiet_below);
     // `digits` is what the run's axis words may then have before their points.
     bool rules_quiet(FastLineParser::IntDigits& digits) const;
+    // skim_run in the walk with the rules while rules_quiet. A run that
+    // stopped at once before a move that may pass a bound (every move of a
+    // program past the travel) is not tried again for the next 1, 3, 7 ...
+    // 63 lines (a cost of time only: those lines are checked one by one).
+    uint32_t quiet_run(uint32_t max_lines, uint64_t start_limit);
+    uint32_t quiet_wait_ = 0, quiet_backoff_ = 0;
+    bool run_over_ = false;  // the last skim_run stopped before a move past its digits
     // plain_rules_ and plain_digits_ from rules_.
     void index_plain_rules();
     // Whether skim_run may read past lines: not for the language server's

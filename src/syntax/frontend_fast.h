@@ -86,6 +86,7 @@ public:
         size_t last_start = 0;  // where the last of them starts in the text
         uint32_t lines = 0;
         PlainMove last;         // the last word of each address met (its number read)
+        bool over = false;      // it stopped before a move with a word past `int_digits`
     };
     // Reads such lines from the start of `text` (at offset `base` of the
     // file), whole lines only: at most `max_lines`, each starting before

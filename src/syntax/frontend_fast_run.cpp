@@ -32,7 +32,8 @@ using IntDigits = FastLineParser::IntDigits;
 // The byte-by-byte check of the line at p: whether it is a plain move of the
 // strictest shape (spaces, then X Y Z F words `X-12.5` and G0 to G3, glued
 // or separated by spaces), whole in s[0, n); sets `end` to its terminator.
-bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out, const IntDigits& int_digits) {
+bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out, const IntDigits& int_digits,
+                bool& over) {
     out.fill(kNone);
     bool words = false;
     size_t q = p;
@@ -48,7 +49,10 @@ bool line_words(const char* s, size_t n, size_t p, size_t& end, LineWords& out, 
         if (slot != 4 && q < n && (s[q] == '+' || s[q] == '-')) ++q;
         size_t digits = 0;
         while (q < n && is_digit(s[q])) ++q, ++digits;
-        if (slot < 3 && digits > int_digits[slot]) return false;  // may be past a bound: not in a run
+        if (slot < 3 && digits > int_digits[slot]) {  // may be past a bound: not in a run
+            over = true;
+            return false;
+        }
         if (slot == 4) {
             // G0 to G3, digits only (G00 ... G03).
             if (digits == 0 || digits > 2 || s[q - 1] > '3' || (digits == 2 && s[q - 2] != '0')) return false;
@@ -129,14 +133,17 @@ FastLineParser::PlainRun FastLineParser::plain_run(std::string_view text, uint32
         if (n - p > 32) {
             const int e = quick_line_end(s + p);
             if (e >= 0 && quick_line(s + p, e, line)) {
-                if (bounded && quick_digits_over(s + p, line, int_digits)) break;
+                if (bounded && quick_digits_over(s + p, line, int_digits)) {
+                    run.over = true;
+                    break;
+                }
                 q = p + static_cast<size_t>(e);
                 quick = true;
             }
         }
 #endif
         if (!quick) {
-            if (!line_words(s, n, p, q, words, int_digits)) break;
+            if (!line_words(s, n, p, q, words, int_digits, run.over)) break;
         }
         size_t next = q + 1;
         if (s[q] == '\r') {

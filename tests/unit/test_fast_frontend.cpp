@@ -664,7 +664,10 @@ TEST_CASE("fast front end: plain_run stops before a move with an axis word of mo
     const std::string text = "X12.5 Y-3.\nX99.999 Z-.5\nX100. Y1.\nX1.\nM30\n" + std::string(80, ' ');
     const auto run = p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {}, {2, 2, 2});
     CHECK(run.lines == 2);
-    CHECK(p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {}, {3, 1, 1}).lines == 4);
+    CHECK(run.over);  // it stopped for the digits, not for the line's shape
+    const auto all = p.plain_run(text, 0, 100, UINT64_MAX, UINT64_MAX, 1, 1, [](size_t, uint32_t) {}, {3, 1, 1});
+    CHECK(all.lines == 4);
+    CHECK_FALSE(all.over);
 }
 
 TEST_CASE("fast front end: parse_moves reads random plain moves, with or without a sequence name, as parse does") {
