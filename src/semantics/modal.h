@@ -144,7 +144,6 @@ struct OpenCycle {
     friend bool operator==(const OpenCycle&, const OpenCycle&) = default;
 };
 
-// The macro of an open MODIN, with its arguments as commanded.
 // The arguments of a MODIN line, as the modal state carries them.
 struct ModinArgs {
     // Argument name -> known numeric value (absent: not given or value unknown).
@@ -153,6 +152,7 @@ struct ModinArgs {
     friend bool operator==(const ModinArgs&, const ModinArgs&) = default;
 };
 
+// The macro of an open MODIN, with its arguments as commanded.
 struct ActiveModin {
     std::string macro;  // "OG87C"
     uint32_t line = 0;  // the MODIN block
