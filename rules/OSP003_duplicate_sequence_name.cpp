@@ -2,10 +2,12 @@
 // Off by default: posts restart or wrap their numbers, and a duplicate only
 // matters when a jump names it, which OSP006 reports.
 #include <array>
+#include <functional>
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/rule.h"
@@ -20,7 +22,7 @@ constexpr RuleMeta kMeta{
     .summary = "A sequence name is defined twice in one program",
     .category = RuleCategory::Suspicious,
     .enabled_by_default = false,
-    .blocks = RuleBlocks::All,
+    .blocks = RuleBlocks::Named,
 };
 
 // The first definition of each name is kept, for the note, for the first
@@ -38,20 +40,14 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override {
         first_.clear();
         for (auto& b : seen_) b.clear();
-        set_wants_plain_moves(false);  // only those with a sequence name, which come anyway
+        set_wants_plain_moves(false);  // only those with a sequence name (RuleBlocks::Named)
     }
     void check_block(RuleContext& ctx, const BlockView& v) override {
-        if (!v.block.sequence) return;
-        const Label& l = *v.block.sequence;
-        if (auto it = first_.find(l.name); it != first_.end()) {
-            report(ctx, l, ctx.resolve(it->second));
-            return;
-        }
-        if (first_.size() < kKeepFirst || !set_bit(l.name)) {
-            if (first_.size() < kKeepFirst || !numeric(l.name)) first_.emplace(l.name, l.range);
-            return;
-        }
-        report(ctx, l, std::nullopt);
+        if (v.block.sequence) check_name(ctx, v.block.sequence->name, v.block.sequence->range);
+    }
+    bool takes_plain_values() const override { return true; }
+    void check_plain_move(RuleContext& ctx, const PlainMoveView& v) override {
+        if (!v.move.sequence.empty()) check_name(ctx, v.move.sequence, v.move.sequence_range);
     }
 
     bool same_as(const DuplicateSequenceName& o) const { return first_ == o.first_ && seen_ == o.seen_; }
@@ -63,10 +59,21 @@ public:
     }
 
 private:
-    static void report(RuleContext& ctx, const Label& l, std::optional<SourceRange> first) {
-        auto& d = ctx.report(kMeta, l.range,
-                             "sequence name " + l.name + " is already defined in this program: a GOTO or IF to it "
-                             "may land on the other block");
+    void check_name(RuleContext& ctx, std::string_view name, ByteRange range) {
+        if (auto it = first_.find(name); it != first_.end()) {
+            report(ctx, name, range, ctx.resolve(it->second));
+            return;
+        }
+        if (first_.size() < kKeepFirst || !set_bit(name)) {
+            if (first_.size() < kKeepFirst || !numeric(name)) first_.emplace(name, range);
+            return;
+        }
+        report(ctx, name, range, std::nullopt);
+    }
+    static void report(RuleContext& ctx, std::string_view name, ByteRange range, std::optional<SourceRange> first) {
+        auto& d = ctx.report(kMeta, range,
+                             "sequence name " + std::string(name) +
+                                 " is already defined in this program: a GOTO or IF to it may land on the other block");
         if (first)
             d.notes.push_back({"first defined here", first});
         else
@@ -75,7 +82,7 @@ private:
                                std::nullopt});
     }
     // N followed by 1..kMaxDigits digits.
-    static bool numeric(const std::string& name) {
+    static bool numeric(std::string_view name) {
         if (name.size() < 2 || name.size() > kMaxDigits + 1 || name[0] != 'N') return false;
         for (size_t i = 1; i < name.size(); ++i)
             if (name[i] < '0' || name[i] > '9') return false;
@@ -83,7 +90,7 @@ private:
     }
     // For a numeric name: marks it seen; true when it was seen before. False
     // (nothing marked) for other names.
-    bool set_bit(const std::string& name) {
+    bool set_bit(std::string_view name) {
         if (!numeric(name)) return false;
         const size_t digits = name.size() - 1;
         uint64_t value = 0;
@@ -100,7 +107,7 @@ private:
         return was;
     }
 
-    std::map<std::string, ByteRange> first_;
+    std::map<std::string, ByteRange, std::less<>> first_;
     std::array<std::vector<uint64_t>, kMaxDigits + 1> seen_;  // by digit count
 };
 

@@ -5,6 +5,7 @@
 // them from the outline before the walk), so a posted program that numbers
 // every block, and restarts its numbers, costs no memory here.
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -19,7 +20,7 @@ constexpr RuleMeta kMeta{
     .severity = Severity::Warning,
     .summary = "A GOTO or IF jumps to a sequence name the program defines more than once",
     .category = RuleCategory::Suspicious,
-    .blocks = RuleBlocks::All,
+    .blocks = RuleBlocks::Named,
 };
 
 // Definitions kept per name for the notes; the rest are only counted.
@@ -31,19 +32,17 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override {
         defs_.clear();
         jumps_.clear();
-        set_wants_plain_moves(false);  // a definition has a sequence name, and those blocks come anyway
+        set_wants_plain_moves(false);  // a definition has a sequence name (RuleBlocks::Named)
     }
     void check_block(RuleContext& ctx, const BlockView& v) override {
-        if (v.block.sequence && ctx.is_jump_target(v.block.sequence->name)) {
-            Defs& d = defs_[v.block.sequence->name];
-            // Resolved now, while the block is in hand: at the program's end the
-            // engine would have to read back to it for each note.
-            if (d.places.size() < kNotedDefinitions) d.places.push_back(ctx.resolve(v.block.sequence->range));
-            ++d.count;
-        }
+        if (v.block.sequence) definition(ctx, v.block.sequence->name, v.block.sequence->range);
         for (const auto& st : v.block.statements)
             if ((st.kind == StmtKind::Goto || st.kind == StmtKind::If) && !st.name.empty())
                 jumps_.push_back({st.name, st.name_range});
+    }
+    bool takes_plain_values() const override { return true; }
+    void check_plain_move(RuleContext& ctx, const PlainMoveView& v) override {
+        if (!v.move.sequence.empty()) definition(ctx, v.move.sequence, v.move.sequence_range);
     }
     void end_program(RuleContext& ctx, const ProgramView&) override {
         for (const Jump& j : jumps_) {
@@ -80,6 +79,14 @@ public:
     }
 
 private:
+    void definition(RuleContext& ctx, std::string_view name, ByteRange range) {
+        if (!ctx.is_jump_target(name)) return;
+        Defs& d = defs_[std::string(name)];
+        // Resolved now, while the block is in hand: at the program's end the
+        // engine would have to read back to it for each note.
+        if (d.places.size() < kNotedDefinitions) d.places.push_back(ctx.resolve(range));
+        ++d.count;
+    }
     struct Defs {
         std::vector<SourceRange> places;  // the first kNotedDefinitions
         size_t count = 0;

@@ -662,7 +662,7 @@ void Walk::plain_done(const LineRef& line) {
 // sequence name and that no loop edge flows into, made from the move's
 // values alone: no block is built (FastLineParser::plain_move).
 bool Walk::skim(const LineRef& line) {
-    if (!apply_plain_values(line)) return false;
+    if (!apply_plain_values(line, true)) return false;
     plain_done(line);
     return true;
 }
@@ -670,10 +670,14 @@ bool Walk::skim(const LineRef& line) {
 // What skim and skim_checked share: whether the line is a plain move that
 // visit would apply as one, read from its values alone (into plain_move_);
 // when it is, applied (B_ is the state after it).
-bool Walk::apply_plain_values(const LineRef& line) {
+bool Walk::apply_plain_values(const LineRef& line, bool names) {
     if (!plain_ok_ || !reachable_ || !plain_move_state(*A_)) return false;
     if (!parser_.plain_move(line, plain_move_)) return false;
     if (pending_offset_.find(line.start) || flow_.loop_at_head(line.start)) return false;
+    // A name that paths may join at (enter) or that the rules cannot take so.
+    if (!plain_move_.sequence.empty() &&
+        (!names || (tracks_labels_ && flow_.is_referenced(plain_move_.sequence))))
+        return false;
     partial_ = nullptr;
     ++stats_.transfers;
     apply_plain_move(plain_move_, line.line, plain_after());
@@ -704,14 +708,16 @@ bool Walk::rules_take_values() const {
 // without a sequence name, made from the move's values alone: no block is
 // built; the rules that want plain moves see it through check_plain_move.
 bool Walk::skim_checked(const LineRef& line) {
-    if (!apply_plain_values(line)) return false;
+    if (!apply_plain_values(line, named_values_)) return false;
     ++stats_.value_blocks;
     if (!held_) positions_.set_current(line);
     block_ = nullptr;
     const PlainMoveView view{plain_move_, {line.start, line.start + static_cast<uint32_t>(line.text.size())},
                              line.line, *A_, *B_};
-    for (Rule* r : plain_rules_)
-        if (r->wants_plain_moves()) r->check_plain_move(*this, view);
+    const bool named = !plain_move_.sequence.empty();
+    for (size_t i = 0; i < plain_rules_.size(); ++i)
+        if (plain_rules_[i]->wants_plain_moves() || (named && plain_named_[i]))
+            plain_rules_[i]->check_plain_move(*this, view);
     if (!findings_.empty()) flush();
     plain_done(line);
     return true;
@@ -817,10 +823,15 @@ uint32_t Walk::quiet_run(uint32_t max_lines, uint64_t start_limit) {
 
 void Walk::index_plain_rules() {
     plain_rules_.clear();
+    plain_named_.clear();
     plain_digits_.clear();
+    named_values_ = true;
     for (auto& r : rules_) {
         if (!r->sees_plain_moves(config_)) continue;
         plain_rules_.push_back(r.get());
+        const bool named = r->meta().blocks == RuleBlocks::Named;
+        plain_named_.push_back(named);
+        if (named && !r->takes_plain_values()) named_values_ = false;
         std::optional<FastLineParser::IntDigits> digits;
         if (const auto below = r->quiet_below(config_)) {
             // A value with k digits before its point is below 10^k: the most
@@ -844,8 +855,13 @@ void Walk::index_plain_rules() {
 
 void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
     if (plain) {
-        for (Rule* r : plain_rules_)
-            if (r->wants_plain_moves() || view.block.sequence) r->check_block(*this, view);
+        // Where paths join (a name a jump or N word names), the state may not be
+        // what a rule saw last: every rule that sees plain moves sees the move.
+        const bool named = view.block.sequence.has_value();
+        const bool join = named && tracks_labels_ && flow_.is_referenced(view.block.sequence->name);
+        for (size_t i = 0; i < plain_rules_.size(); ++i)
+            if (join || plain_rules_[i]->wants_plain_moves() || (named && plain_named_[i]))
+                plain_rules_[i]->check_block(*this, view);
     } else {
         for (auto& r : rules_) r->check_block(*this, view);
     }

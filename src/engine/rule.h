@@ -59,10 +59,13 @@ enum class RuleStatus { Stable, Preview };
 // Which blocks the engine hands to a rule's check_block.
 enum class RuleBlocks {
     // Every block but a plain move (semantics/transfer.h: a G0/G1 block with
-    // nothing else, in a state where it cannot matter to such a rule), and
-    // plain moves that carry a sequence name. Most rules look only at these,
-    // and the engine walks a posted program of plain moves without them.
+    // nothing else, in a state where it cannot matter to such a rule). Most
+    // rules look only at these, and the engine walks a posted program of
+    // plain moves without them.
     Statements,
+    // Those, and the plain moves that carry a sequence name: a rule about
+    // the names (OSP003), which no other plain move can matter to.
+    Named,
     All,  // every block, plain moves included
 };
 
@@ -114,8 +117,9 @@ std::string_view status_name(RuleStatus s);      // "stable", "preview"
 // every page to it (and write it with OSPLINT_UPDATE_SNAPSHOTS=1).
 std::string rule_doc_header(const RuleMeta& meta);
 
-// A plain move without a sequence name in a plain-move state, read without
-// its block (PlainMove): what a rule that takes such moves so sees of it.
+// A plain move in a plain-move state, read without its block (PlainMove):
+// what a rule that takes such moves so sees of it. Its sequence name, when it
+// has one (move.sequence), is not one a jump or an N word names.
 struct PlainMoveView {
     const PlainMove& move;
     ByteRange range;           // the line, as Block::range
@@ -191,17 +195,20 @@ public:
     // the same findings as a walk that shows every rule every block.
     // The default is what the metadata declares (RuleMeta::blocks); a rule
     // overrides it only when the answer depends on the configuration.
-    virtual bool sees_plain_moves(const Config&) const { return meta().blocks == RuleBlocks::All; }
+    virtual bool sees_plain_moves(const Config&) const { return meta().blocks != RuleBlocks::Statements; }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
     // another block (OSP004 once it knows where the program's content starts).
-    // Plain moves with a sequence name reach it regardless.
+    // A plain move where paths join (its sequence name is one a jump or an N
+    // word names) reaches it regardless, and so do the other plain moves with
+    // a sequence name if it is a RuleBlocks::Named rule.
     bool wants_plain_moves() const { return wants_plain_moves_; }
-    // Whether check_plain_move does, for a plain move without a sequence name,
-    // all that check_block would do for its block. While every rule that
-    // wants plain moves says so, a batch analysis reads such moves without
-    // building their blocks (the differential tests hold the findings to a
-    // walk that shows every rule every block).
+    // Whether check_plain_move does, for a plain move, all that check_block
+    // would do for its block. While every rule that wants plain moves says so
+    // (and, for a move with a sequence name, every RuleBlocks::Named rule), a
+    // batch analysis reads such moves without building their blocks (the
+    // differential tests hold the findings to a walk that shows every rule
+    // every block).
     virtual bool takes_plain_values() const { return false; }
     virtual void check_plain_move(RuleContext&, const PlainMoveView&) {}
     // For X, Y and Z, a magnitude under which an axis word of a plain move

@@ -297,7 +297,8 @@ private:
     // In a sweep without the rules: a plain move applied from its values
     // alone, without a block; false for any other line (it is then parsed).
     bool skim(const LineRef& line);
-    bool apply_plain_values(const LineRef& line);
+    // `names`: whether the move may have a sequence name (one no jump or N word names).
+    bool apply_plain_values(const LineRef& line, bool names);
     // In the walk with the rules, while rules_take_values(): a plain move
     // checked from its values alone (Rule::check_plain_move); false for any
     // other line (it is then parsed).
@@ -326,7 +327,7 @@ private:
     uint32_t quiet_run(uint32_t max_lines, uint64_t start_limit);
     uint32_t quiet_wait_ = 0, quiet_backoff_ = 0;
     bool run_over_ = false;  // the last skim_run stopped before a move past its digits
-    // plain_rules_ and plain_digits_ from rules_.
+    // plain_rules_, plain_named_, plain_digits_ and named_values_ from rules_.
     void index_plain_rules();
     // Whether skim_run may read past lines: not for the language server's
     // checkpoints (taken at blocks: mark_loop) or an analysis that may end early.
@@ -400,6 +401,8 @@ private:
     FileOutline outline_;
     std::vector<std::unique_ptr<Rule>> rules_;
     std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
+    std::vector<char> plain_named_;   // of each, whether it is RuleBlocks::Named
+    bool named_values_ = true;        // every RuleBlocks::Named rule takes plain values
     // Of each of them, its quiet_below as digits before the point (nullopt: none).
     std::vector<std::optional<FastLineParser::IntDigits>> plain_digits_;
     bool plain_ok_ = true;            // plain_moves_possible with this catalog

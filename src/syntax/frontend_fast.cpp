@@ -570,12 +570,19 @@ bool FastLineParser::Impl::simple_line_in() {
     const char* const e = s + n;
     while ((kSentinel || q < e) && (kClass[static_cast<unsigned char>(*q)] & kBlankClass)) ++q;
     if (q == e) return false;
+    if constexpr (kValues) values->sequence = {};
     if (*q == 'N' || *q == 'n') {
-        if constexpr (kValues) return false;  // a sequence name: the walk needs the block
         const char* t = q + 1;
         if (t == e || !(kClass[static_cast<unsigned char>(*t)] & kDigitClass)) return false;
         while ((kSentinel || t < e) && (kClass[static_cast<unsigned char>(*t)] & kDigitClass)) ++t;
-        set_label(b->sequence, static_cast<uint32_t>(q - s), static_cast<uint32_t>(t - s));
+        if constexpr (kValues) {
+            // The name as written is the Label's (upper-cased) name only with an upper-case N.
+            if (*q != 'N') return false;
+            values->sequence = std::string_view(q, static_cast<size_t>(t - q));
+            values->sequence_range = abs(static_cast<uint32_t>(q - s), static_cast<uint32_t>(t - s));
+        } else {
+            set_label(b->sequence, static_cast<uint32_t>(q - s), static_cast<uint32_t>(t - s));
+        }
         q = t;
     }
     bool all_plain = true;

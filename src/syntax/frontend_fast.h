@@ -68,10 +68,11 @@ public:
     bool last_partial() const;
 
     // The words of `line` when it is a plain move of the simplest shape (one
-    // that parse_moves keeps in part) with no sequence name and at most
-    // PlainMove::kMaxWords words: what parse_moves keeps of each, read by the
-    // same scan, but into `out` instead of a block. False for any other line
-    // (the caller then parses it). For a sweep that needs only the values.
+    // that parse_moves keeps in part), with at most PlainMove::kMaxWords
+    // words and no sequence name but `N` and digits: what parse_moves keeps
+    // of each, read by the same scan, but into `out` instead of a block, and
+    // the sequence name's text and range. False for any other line (the
+    // caller then parses it). For a sweep that needs only the values.
     bool plain_move(const LineRef& line, PlainMove& out);
 
     // Lines of the strictest shape parse_moves keeps in part: upper-case X, Y,

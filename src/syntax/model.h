@@ -174,9 +174,10 @@ struct Block {
 
 // The commonest block of a posted program, read without building it: a
 // plain move of the simplest shape (`X-53.7 Y-40. F2500`, glued words with
-// literal values, G0 to G3 and X, Y, Z, F only, no sequence name), as
-// FastLineParser::plain_move reads it. Its words are those the Block of the
-// same line would have, with their address, signed number and range only.
+// literal values, G0 to G3 and X, Y, Z, F only, after an optional sequence
+// number `N120`), as FastLineParser::plain_move reads it. Its words are those
+// the Block of the same line would have, with their address, signed number
+// and range only; its sequence number is the Block's Label.
 struct PlainMoveWord {
     char address = 0;   // X, Y, Z, F or G
     double number = 0;  // with its sign
@@ -186,6 +187,10 @@ struct PlainMove {
     static constexpr size_t kMaxWords = 8;
     std::array<PlainMoveWord, kMaxWords> words;
     size_t count = 0;
+    // `N` and digits as written (the Label's name), in the parsed line's
+    // text; empty when the line has no sequence name.
+    std::string_view sequence;
+    ByteRange sequence_range;
     const PlainMoveWord* begin() const { return words.data(); }
     const PlainMoveWord* end() const { return words.data() + count; }
 };

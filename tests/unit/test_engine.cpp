@@ -575,6 +575,47 @@ TEST_CASE("engine: plain moves around jumps and loops give the reference's resul
     CHECK(value_blocks > 100);
 }
 
+TEST_CASE("engine: numbered moves are checked from their values, their names still seen") {
+    // A post that numbers every block and restarts its numbers with each
+    // operation: the moves whose name no jump names are read without their
+    // blocks, OSP003 still sees every name and OSP006 the name jumped to
+    // (whose block is read whole: paths join there).
+    Config config = with_travel(-150);
+    config.rule_severity["OSP003"] = Severity::Warning;
+    std::mt19937 rng(2718);
+    std::string text = "O1000\nN1 G15 H1\nN2 G90 G0 X0 Y0\nN3 G56 Z50. H1\nN4 S1000 M3\nVC1=0\n";
+    int named_moves = 0, past = 0;
+    for (int op = 0; op < 4; ++op) {
+        if (op == 3) text += "N5000 G0 Z20.\n";
+        int n = 10;
+        for (int k = 0; k < 400; ++k, n += 10) {
+            std::string move = "X" + std::to_string(static_cast<int>(rng() % 199) - 99) + "." + std::to_string(rng() % 10) +
+                               " Y" + std::to_string(rng() % 99) + ". Z-" + std::to_string(rng() % 40) + ".5";
+            if (rng() % 50 == 0) {
+                move += " Z-200.";  // past the travel
+                ++past;
+            }
+            text += "N" + std::to_string(n) + (rng() % 3 ? " G1 " : " ") + move + (rng() % 4 ? "\n" : " F800\n");
+            ++named_moves;
+        }
+        text += op == 3 ? "VC1=VC1+1\nIF [VC1 LT 2] N5000\n" : "G0 Z50.\n";
+    }
+    text += "N7000 G0 Z50.\nN7000 G0 Z60.\nIF [VC1 LT 3] N7000\n";
+    text += "n15 X1. Y1.\nN16 G1 X1. Y2.\nM30\n";  // a lower-case name is read whole
+    compare_checks("numbered.min", text, config);
+    EngineStats st;
+    AnalysisOptions options;
+    options.stats = &st;
+    options.fold = 0;
+    std::map<std::string, int> seen;
+    for (const auto& d : check_text("numbered.min", text, config, options).diagnostics) ++seen[d.rule];
+    CHECK(seen["OSP003"] >= 3 * 400);  // every name of the later operations is a duplicate
+    CHECK(seen["OSP006"] == 1);        // N7000, defined twice, is jumped to
+    CHECK(seen["OSP301"] >= past);
+    CHECK(past > 10);
+    CHECK(st.value_blocks > static_cast<uint64_t>(named_moves) * 7 / 10);  // all but the loop's
+}
+
 TEST_CASE("columns: a finding that starts inside a multi-byte character does not shift the next one") {
     // Bytes of a Shift-JIS comment read as UTF-8: the error ranges of the line
     // start inside sequences; the columns of a later range on the same line

@@ -372,24 +372,31 @@ std::string compare_moves(const std::string& name, const std::string& text, size
 }
 
 // Reads `text` line by line with plain_move and compares with parse_moves:
-// plain_move reads a line exactly when parse_moves keeps it in part with no
-// sequence name and at most PlainMove::kMaxWords words, and then reads the
-// same addresses, numbers and ranges.
-std::string compare_plain_move(const std::string& name, const std::string& text, size_t* read = nullptr) {
+// plain_move reads a line exactly when parse_moves keeps it in part with at
+// most PlainMove::kMaxWords words and no sequence name but one written `N`
+// and digits, and then reads the same addresses, numbers and ranges, and the
+// same sequence name.
+std::string compare_plain_move(const std::string& name, const std::string& text, size_t* read = nullptr,
+                               size_t* named = nullptr) {
     FastLineParser moves, values;
     Block b;
     PlainMove m;
     std::string report;
     for_each_line(text, [&](const LineRef& line) {
         moves.parse_moves(line, b);
-        const bool want = moves.last_partial() && !b.sequence && b.words.size() <= PlainMove::kMaxWords;
+        const bool name_ok =
+            !b.sequence || line.text.substr(b.sequence->range.begin - line.start, 1) == "N";
+        const bool want = moves.last_partial() && name_ok && b.words.size() <= PlainMove::kMaxWords;
         const bool got = values.plain_move(line, m);
         std::string why;
         if (got != want) {
             why = got ? "read, not a plain move in part" : "not read";
         } else if (got) {
             if (read) ++*read;
-            bool same = m.count == b.words.size();
+            if (named && b.sequence) ++*named;
+            bool same = m.count == b.words.size() &&
+                        (b.sequence ? m.sequence == b.sequence->name && m.sequence_range == b.sequence->range
+                                    : m.sequence.empty());
             for (size_t i = 0; same && i < m.count; ++i)
                 same = b.words[i].address.size() == 1 && m.words[i].address == b.words[i].address[0] &&
                        b.words[i].number && m.words[i].number == *b.words[i].number &&
@@ -406,11 +413,12 @@ std::string compare_plain_move(const std::string& name, const std::string& text,
 }  // namespace
 
 TEST_CASE("fast front end: plain_move reads the lines parse_moves keeps in part, the same words") {
-    size_t read = 0;
+    size_t read = 0, named = 0;
     on_test_programs(20261202, [&](const std::string& name, const std::string& text) {
-        return compare_plain_move(name, text, name.rfind("mut", 0) == 0 ? nullptr : &read);
+        return compare_plain_move(name, text, name.rfind("mut", 0) == 0 ? nullptr : &read, &named);
     });
     CHECK(read > 500);
+    CHECK(named > 40);  // 51 today
 
     FastLineParser p;
     PlainMove m;
@@ -421,7 +429,13 @@ TEST_CASE("fast front end: plain_move reads the lines parse_moves keeps in part,
     CHECK(m.words[2].number == 2);
     CHECK(m.words[2].range.begin == 110);
     CHECK(m.words[2].range.end == 114);
-    for (const char* other : {"N12 X1", "G81 X1 Z-2 R1 F9", "G-1 X1", "X1 (C)", "", "X1 Y1 Z1 X1 Y1 Z1 X1 Y1 Z1"})
+    CHECK(m.sequence.empty());
+    REQUIRE(p.plain_move(line("N0120 X1"), m));
+    CHECK(m.sequence == "N0120");
+    CHECK(m.sequence_range == ByteRange{100, 105});
+    REQUIRE(m.count == 1);
+    for (const char* other : {"n12 X1", "N12", "NSTOP X1", "/N12 X1", "G81 X1 Z-2 R1 F9", "G-1 X1", "X1 (C)", "",
+                              "X1 Y1 Z1 X1 Y1 Z1 X1 Y1 Z1"})
         CHECK_MESSAGE(!p.plain_move(line(other), m), other);
 }
 

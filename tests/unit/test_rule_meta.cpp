@@ -51,12 +51,21 @@ TEST_CASE("rule metadata: every rule has a category, a version, and sees plain m
         CAPTURE(meta.id);
         CHECK(off.rule_severity.count(std::string(meta.id)) == (meta.selected_by_prefix ? 1u : 0u));
     }
-    // A rule is handed plain moves when its metadata says so (OSP301 decides
-    // from the configuration: only with travel limits).
+    // A rule is handed plain moves (all, or those with a sequence name) when
+    // its metadata says so (OSP301 decides from the configuration: only with
+    // travel limits). A rule of the names takes them from their values.
     const Config config;
-    for (const auto& rule : builtin_rules().make_all())
+    int named = 0;
+    for (const auto& rule : builtin_rules().make_all()) {
+        const RuleBlocks blocks = rule->meta().blocks;
         if (rule->meta().id != "OSP301")
-            CHECK_MESSAGE(rule->sees_plain_moves(config) == (rule->meta().blocks == RuleBlocks::All), rule->meta().id);
+            CHECK_MESSAGE(rule->sees_plain_moves(config) == (blocks != RuleBlocks::Statements), rule->meta().id);
+        if (blocks == RuleBlocks::Named) {
+            ++named;
+            CHECK_MESSAGE(rule->takes_plain_values(), rule->meta().id);
+        }
+    }
+    CHECK(named == 2);  // OSP003, OSP006
 }
 
 TEST_CASE("retired rule IDs: a renamed one still names its rule, a removed one is said to be removed") {
