@@ -34,7 +34,8 @@ namespace {
 
 // The default configuration, or one with travel limits (OSP301 then looks
 // at every move, and the walk with the rules checks plain moves from their
-// values), as a bit of the input says.
+// values) and OSP003 on (the sequence names of those moves go to it from
+// their values too), as a bit of the input says.
 const Config& config_for(bool travel) {
     static const Config plain;
     static const Config limited = [] {
@@ -42,6 +43,7 @@ const Config& config_for(bool travel) {
         c.travel['X'] = TravelLimit{-300, 300};
         c.travel['Y'] = TravelLimit{-200, 200};
         c.travel['Z'] = TravelLimit{-300, 100};
+        c.rule_severity["OSP003"] = Severity::Warning;  // off by default; the names of plain moves too
         return c;
     }();
     return travel ? limited : plain;
