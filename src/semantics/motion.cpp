@@ -224,7 +224,8 @@ std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before,
     if (b.kind != LineKind::Block) return std::nullopt;
     if (runs_macro(b, call))
         return macro_envelope(b, before, after, *call, *call->spec, &config, detail == EnvelopeDetail::Full);
-    if (is_cycle_hole(b, before, after, call)) return hole_envelope(b, before, after, config);
+    if (is_cycle_hole(b, before, after, call))
+        return hole_envelope(b, before, after, config, detail == EnvelopeDetail::Full);
     return std::nullopt;
 }
 

@@ -135,7 +135,8 @@ bool is_cycle_hole(const Block& block, const ModalState& before, const ModalStat
 // text that shows them (a point's label, arithmetic and catalog text, the
 // notes, a span's reason): what a rule needs to decide whether it reports,
 // at a fraction of the cost; it asks again in full for the finding. The
-// holes of fixed cycles are always worked out in full.
+// points of a fixed cycle's holes are described either way (only the steps
+// of a G-code macro cycle's own sequence, OG84L's, go without their text).
 enum class EnvelopeDetail : uint8_t { Full, Values };
 
 // The envelope of the motion the block runs on the cycle axis, or nullopt when

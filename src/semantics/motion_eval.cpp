@@ -3,6 +3,7 @@
 // envelope shows ("PZ-PI-PL = -20-12-5 = -37") and why a value is not known.
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 
 #include "semantics/motion_internal.h"
 
@@ -11,8 +12,24 @@ namespace osplint::motion_detail {
 
 bool contains_ci(std::string_view hay, std::string_view needle) {
     const auto up = [](char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; };
-    return std::search(hay.begin(), hay.end(), needle.begin(), needle.end(),
-                       [&](char a, char b) { return up(a) == up(b); }) != hay.end() || needle.empty();
+    if (needle.empty()) return true;
+    if (hay.size() < needle.size()) return false;
+    const char first = up(needle[0]);
+    const bool letter = first >= 'A' && first <= 'Z';
+    const char* const last = hay.data() + (hay.size() - needle.size());
+    for (const char* p = hay.data(); p <= last; ++p) {
+        // A first character that has no other case is found by memchr (`+ limit`).
+        if (!letter) {
+            p = static_cast<const char*>(std::memchr(p, first, static_cast<size_t>(last - p) + 1));
+            if (!p) return false;
+        } else if (up(*p) != first) {
+            continue;
+        }
+        size_t k = 1;
+        while (k < needle.size() && up(p[k]) == up(needle[k])) ++k;
+        if (k == needle.size()) return true;
+    }
+    return false;
 }
 
 // --- Tri-state values ------------------------------------------------------------

@@ -105,7 +105,7 @@ MotionPoint point_from(const std::string& step, const std::string& label, const 
 // gave). Absent: not given since the cycle started; Unknown when the paths to
 // the block disagree on that.
 ArgValue cycle_word(const Block& b, const ModalState& before, const ActiveCycle& c,
-                    const std::function<bool(const std::string&)>& is_it) {
+                    const std::function<bool(const std::string&)>& is_it, bool describe = true) {
     for (const auto& w : b.words) {
         if (!is_it(w.address)) continue;
         ArgValue out;
@@ -124,7 +124,7 @@ ArgValue cycle_word(const Block& b, const ModalState& before, const ActiveCycle&
         if (val.known) {
             out.state = ArgValue::State::Known;
             out.value = val.value;
-            out.how = c.start_line ? "from line " + std::to_string(c.start_line) : "";
+            if (describe && c.start_line) out.how = "from line " + std::to_string(c.start_line);
         } else {
             out.state = ArgValue::State::Unknown;
             out.how = "value given earlier in the cycle not known";
@@ -146,22 +146,26 @@ ArgValue cycle_word(const Block& b, const ModalState& before, const ActiveCycle&
 // An argument of a G-code macro cycle at one of its holes: R and Z as the
 // cycle holds them, a word of the block, a word given earlier in the cycle,
 // or the default when it was never given since the cycle started.
+// `describe`: with the `how` of a value (false: values only).
 ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveCycle& c, const MacroSpec& macro,
-                         const HoleLevels& levels, const std::string& name) {
+                         const HoleLevels& levels, const std::string& name, bool describe) {
     const ArgSpec* as = macro.arg(name);
-    std::string n = as ? as->name : name;
+    const std::string& n = as ? as->name : name;
     if (n == "R") return levels.r;
     if (n == "Z") return levels.z;
-    ArgValue out = cycle_word(b, before, c, [&](const std::string& addr) {
-        const ArgSpec* wa = macro.arg_for_address(addr);
-        return wa && wa->name == n;
-    });
+    ArgValue out = cycle_word(
+        b, before, c,
+        [&](const std::string& addr) {
+            const ArgSpec* wa = macro.arg_for_address(addr);
+            return wa && wa->name == n;
+        },
+        describe);
     if (out.state != ArgValue::State::Absent) return out;
     if (as) {
         if (as->default_value) {
             out.state = ArgValue::State::Known;
             out.value = *as->default_value;
-            out.how = "not given: default " + num(*as->default_value);
+            if (describe) out.how = "not given: default " + num(*as->default_value);
         }
         return out;  // not given since the cycle started
     }
@@ -170,26 +174,34 @@ ArgValue cycle_macro_arg(const Block& b, const ModalState& before, const ActiveC
     return out;
 }
 
-// The macro's own sequence (OG84L: R, Z+L, R), with R and Z as the cycle holds them.
+// The macro's own sequence (OG84L: R, Z+L, R), with R and Z as the cycle
+// holds them. `describe`: with the text of each point and the notes (false:
+// values only, EnvelopeDetail::Values).
 void add_macro_sequence(const Block& b, const ModalState& before, const ActiveCycle& c, const MacroSpec& macro,
-                        const HoleLevels& levels, Envelope& env) {
-    const auto arg = [&](const std::string& name) { return cycle_macro_arg(b, before, c, macro, levels, name); };
+                        const HoleLevels& levels, Envelope& env, bool describe) {
+    const auto arg = [&](const std::string& name) {
+        return cycle_macro_arg(b, before, c, macro, levels, name, describe);
+    };
     const Lookup lookup = arg;
     const ArgValue& r = levels.r;
     for (const auto& step : macro.action) {
         if (step.target.empty()) continue;
         if (!step.when.empty()) continue;  // M52/M53 returns follow the fixed-cycle rules below
-        Evaluated e = evaluate_expr(step.target, &macro, lookup, false);
+        Evaluated e = evaluate_expr(step.target, &macro, lookup, false, describe);
         if (e.skip) {
-            env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
+            if (describe) env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
             continue;
         }
-        MotionPoint p = step_point(step);
-        p.expr = step.target;
-        p.mark = mark_for(step.target);
+        MotionPoint p = describe ? step_point(step) : MotionPoint{};
+        p.inferred = step.inferred;
         p.value = e.value;
-        p.worked = e.worked;
-        if (step.target == "R" && !r.how.empty() && r.state == ArgValue::State::Known) p.worked += " (" + r.how + ")";
+        if (describe) {
+            p.expr = step.target;
+            p.mark = mark_for(step.target);
+            p.worked = e.worked;
+            if (step.target == "R" && !r.how.empty() && r.state == ArgValue::State::Known)
+                p.worked += " (" + r.how + ")";
+        }
         env.points.push_back(std::move(p));
     }
 }
@@ -467,7 +479,7 @@ void add_hole_position(const Block& b, const ModalState& after, Envelope& env) {
 }  // namespace
 
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                      const Config& config) {
+                                      const Config& config, bool describe) {
     const ActiveCycle& c = *after.cycle.value;
     const MacroSpec* macro = c.macro.empty() ? nullptr : config.catalog.find(c.macro);
     Envelope env;
@@ -489,7 +501,7 @@ std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, 
     const HoleLevels levels = absolute_levels(c, before, env);
     env.points.push_back(initial_point(env));
     if (macro && !macro->action.empty()) {
-        add_macro_sequence(b, before, c, *macro, levels, env);
+        add_macro_sequence(b, before, c, *macro, levels, env, describe);
     } else {
         const std::string ax(1, env.axis);
         env.points.push_back(point_from("R", "R point", "R", "R", levels.r, "004:L7-8",

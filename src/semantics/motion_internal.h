@@ -98,7 +98,10 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
 std::optional<std::pair<char, double>> macro_end_point(const Block& b, const ModalState& before,
                                                        const ModalState& after, const MacroCall& call,
                                                        const MacroSpec& spec);
+// `describe` false: the steps of a G-code macro cycle's own sequence
+// (OG84L) without their text (EnvelopeDetail::Values); the fixed-cycle
+// points are always described.
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                      const Config& config);
+                                      const Config& config, bool describe = true);
 
 }  // namespace osplint::motion_detail

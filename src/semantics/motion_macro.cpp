@@ -187,6 +187,7 @@ void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, Act
 void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
     const auto atom = [&](const ConditionAtom& a) { return run.atom(a); };
     ActionWalk walk;
+    env.points.reserve(env.points.size() + run.spec.action.size());  // a point a step at most
     for (const auto& step : run.spec.action) {
         Tri cond = step.when.eval(atom);
         if (cond == Tri::False) continue;

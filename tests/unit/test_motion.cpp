@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -22,6 +23,7 @@
 #include "programs.h"
 #include "output/svg.h"
 #include "semantics/motion.h"
+#include "semantics/motion_internal.h"
 
 namespace fs = std::filesystem;
 using namespace osplint;
@@ -91,6 +93,33 @@ const std::string kHead = "O1000\nG15 H1\nG0 G90 X0 Y0\nG56 Z50. H3\n";  // line
 
 // ---------------------------------------------------------------------------
 // Macros (their action sequences through the catalog)
+
+TEST_CASE("contains_ci finds what a search ignoring letter case finds") {
+    using osplint::motion_detail::contains_ci;
+    const auto naive = [](std::string_view hay, std::string_view needle) {
+        std::string h(hay), n(needle);
+        for (auto* t : {&h, &n})
+            for (char& c : *t) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        return h.find(n) != std::string::npos;
+    };
+    CHECK(contains_ci("return to the Z+ LIMIT", "+ limit"));
+    CHECK(contains_ci("up to the + Limit", "+ limit"));
+    CHECK_FALSE(contains_ci("up to the +limit", "+ limit"));
+    CHECK(contains_ci("", ""));
+    CHECK_FALSE(contains_ci("+ lim", "+ limit"));
+    std::mt19937 rng(77);
+    const std::string alphabet = "aAbB+ -";
+    int found = 0;
+    for (int i = 0; i < 20000; ++i) {
+        std::string hay, needle;
+        for (size_t k = rng() % 12; k > 0; --k) hay += alphabet[rng() % alphabet.size()];
+        for (size_t k = rng() % 4; k > 0; --k) needle += alphabet[rng() % alphabet.size()];
+        const bool expected = naive(hay, needle);
+        found += expected;
+        CHECK_MESSAGE(contains_ci(hay, needle) == expected, "'" << hay << "' '" << needle << "'");
+    }
+    CHECK(found > 2000);
+}
 
 TEST_CASE("motion_number writes what four-decimal formatting writes, trailing zeros dropped") {
     // The reference: the value rounded to 1/10000, printed with four decimals
