@@ -187,23 +187,24 @@ void limit_step(const MacroRun& run, const ActionStep& step, MotionPoint& p, Act
 void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
     const auto atom = [&](const ConditionAtom& a) { return run.atom(a); };
     ActionWalk walk;
-    env.points.reserve(env.points.size() + run.spec.action.size());  // a point a step at most
+    // A point a step at most, made in place (a point is seven strings: moving
+    // one copies each), and taken back when its step moves nothing.
+    env.points.reserve(env.points.size() + run.spec.action.size());
     for (const auto& step : run.spec.action) {
         Tri cond = step.when.eval(atom);
         if (cond == Tri::False) continue;
-        MotionPoint p = run.describe ? step_point(step) : MotionPoint{};
+        const bool target = !step.target.empty(), by = !target && !step.by.empty();
+        const bool limit = !target && !by && contains_ci(step.text, "+ limit");
+        if (!target && !by && !limit) continue;  // no cycle-axis motion
+        MotionPoint& p = env.points.emplace_back();
+        if (run.describe) p = step_point(step);
         p.inferred = step.inferred;
         p.possible = cond == Tri::Unknown;
-        if (!step.target.empty()) {
-            if (!target_step(run, lookup, step, p, walk, env)) continue;
-        } else if (!step.by.empty()) {
-            if (!stroke_step(run, lookup, step, p, walk, env)) continue;
-        } else if (contains_ci(step.text, "+ limit")) {
-            limit_step(run, step, p, walk, env);
-        } else {
-            continue;  // no cycle-axis motion
-        }
-        env.points.push_back(std::move(p));
+        bool runs = true;
+        if (target) runs = target_step(run, lookup, step, p, walk, env);
+        else if (by) runs = stroke_step(run, lookup, step, p, walk, env);
+        else limit_step(run, step, p, walk, env);
+        if (!runs) env.points.pop_back();
     }
     if (!walk.end_known) env.end = Val<double>{};
 }
