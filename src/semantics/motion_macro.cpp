@@ -2,6 +2,7 @@
 // one-shot G-code macro): the catalog's action steps walked in order, each
 // step's cycle-axis point worked out from the call's arguments; then the
 // start point in the positioning plane and where the motion may spread there.
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -239,15 +240,37 @@ Val<double> action_end(const MacroRun& run, const Lookup& lookup, char axis) {
     return {};
 }
 
+// The centre on each axis of the plane (two at most; no tree for them).
+class PlaneCentre {
+public:
+    void set(char a, double v) {
+        for (size_t i = 0; i < n_; ++i)
+            if (at_[i].first == a) {
+                at_[i].second = v;
+                return;
+            }
+        if (n_ < at_.size()) at_[n_++] = {a, v};
+    }
+    std::optional<double> of(char a) const {
+        for (size_t i = 0; i < n_; ++i)
+            if (at_[i].first == a) return at_[i].second;
+        return std::nullopt;
+    }
+
+private:
+    std::array<std::pair<char, double>, 2> at_{};
+    size_t n_ = 0;
+};
+
 // The positioning plane: the start point / hole centre, per axis (the block's
 // own words for a MODIN positioning block, else the macro's position
 // arguments), or the current position when none is given.
-std::map<char, double> plane_centre(const MacroRun& run, Envelope& env) {
+PlaneCentre plane_centre(const MacroRun& run, Envelope& env) {
     const Block& b = run.b;
     const ModalState& before = run.before;
     const PlaneAxes pa = plane_axes(run.plane);
     const int pn = run.plane == Plane::G17 ? 17 : run.plane == Plane::G18 ? 18 : 19;
-    std::map<char, double> centre;
+    PlaneCentre centre;
     for (char a : {pa.first, pa.second}) {
         std::optional<double> v;
         std::string what;
@@ -275,7 +298,7 @@ std::map<char, double> plane_centre(const MacroRun& run, Envelope& env) {
             }
         }
         if (v) {
-            centre[a] = *v;
+            centre.set(a, *v);
             env.plane_points.push_back({a, *v, what});
         }
     }
@@ -287,7 +310,7 @@ std::map<char, double> plane_centre(const MacroRun& run, Envelope& env) {
 // Intervals of the positioning-plane axes, widened from the centre.
 class PlaneSpread {
 public:
-    PlaneSpread(const MacroSpec& spec, const Lookup& lookup, const std::map<char, double>& centre)
+    PlaneSpread(const MacroSpec& spec, const Lookup& lookup, const PlaneCentre& centre)
         : spec_(spec), lookup_(lookup), centre_(centre) {}
 
     // A known argument value (nullopt: not an argument of the macro, or not known).
@@ -297,10 +320,7 @@ public:
         if (v.state != ArgValue::State::Known) return std::nullopt;
         return v.value;
     }
-    std::optional<double> centre_of(char a) const {
-        if (auto it = centre_.find(a); it != centre_.end()) return it->second;
-        return std::nullopt;
-    }
+    std::optional<double> centre_of(char a) const { return centre_.of(a); }
     // Widens the interval of axis `a` (which starts at the centre) to reach `v`.
     void widen(char a, double v) {
         auto c = centre_of(a);
@@ -315,7 +335,7 @@ public:
 private:
     const MacroSpec& spec_;
     const Lookup& lookup_;
-    const std::map<char, double>& centre_;
+    const PlaneCentre& centre_;
     std::map<char, Interval> spans_;
 };
 
@@ -399,7 +419,7 @@ void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane
 }
 
 void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup, Plane plane,
-                     const std::map<char, double>& centre, bool describe) {
+                     const PlaneCentre& centre, bool describe) {
     PlaneSpread spread(spec, lookup, centre);
     if (spec.arg("PC") && spec.family == "back-counterbore") {
         counterbore_spans(env, spec, spread, plane, describe);
