@@ -1,5 +1,6 @@
 #include "output/writer.h"
 
+#include <algorithm>
 #include <cctype>
 #include <map>
 #include <ostream>
@@ -417,6 +418,33 @@ private:
 
 }  // namespace
 
+ShownLine shown_line(std::string_view line, uint32_t start, uint32_t end) {
+    // The byte offset of every code point, and of the end.
+    std::vector<size_t> at;
+    at.reserve(line.size() + 1);
+    for (size_t i = 0; i < line.size(); ++i)
+        if ((static_cast<unsigned char>(line[i]) & 0xC0) != 0x80) at.push_back(i);
+    const auto n = static_cast<uint32_t>(at.size());
+    at.push_back(line.size());
+    ShownLine out;
+    if (start > n) {  // past the text kept of a long line: the line without a caret
+        out.text = n > kShownColumns ? std::string(line.substr(0, at[kShownColumns])) + "..." : std::string(line);
+        return out;
+    }
+    end = std::clamp(end, start + 1, std::max(n, start + 1));
+    uint32_t from = 0, to = n;
+    if (n > kShownColumns) {
+        from = start > kShownBefore ? start - kShownBefore : 0;
+        to = std::min(n, from + kShownColumns);
+        if (to - from < kShownColumns) from = to - kShownColumns;
+    }
+    const std::string before = from > 0 ? "..." : "";
+    out.text = before + std::string(line.substr(at[from], at[to] - at[from])) + (to < n ? "..." : "");
+    out.caret = static_cast<uint32_t>(before.size()) + (start - from);
+    out.carets = std::max<uint32_t>(1, std::min(end, std::max(to, start + 1)) - start);
+    return out;
+}
+
 std::string render_text_diagnostic(const std::string& path, const Diagnostic& d, bool color, bool explain_hint) {
     const char* bold = color ? "\x1b[1m" : "";
     const char* reset = color ? "\x1b[0m" : "";
@@ -424,16 +452,15 @@ std::string render_text_diagnostic(const std::string& path, const Diagnostic& d,
     std::string out = fmt::format("{}{}:{}:{}:{} {}{}[{}]{}: {}{}{}\n", bold, printable(path, true), d.range.start.line,
                                   d.range.start.cp_col + 1, reset, color ? color_of(d.severity) : "",
                                   severity_name(d.severity), d.rule, reset, bold, printable(d.message, true), reset);
-    const std::string line = printable(d.line_text, true);
     const std::string num = std::to_string(d.range.start.line);
     const std::string pad(num.size(), ' ');
-    out += fmt::format("{} {} |{} {}\n", blue, num, reset, line);
-    // Caret under the range (on the first line of the range), counted in code points.
     const uint32_t start = d.range.start.cp_col;
-    uint32_t end = d.range.end.line == d.range.start.line ? d.range.end.cp_col : start + 1;
-    if (end <= start) end = start + 1;
-    out += fmt::format("{} {} |{} {}{}{}{}\n", blue, pad, reset, std::string(start, ' '),
-                       color ? color_of(d.severity) : "", std::string(end - start, '^'), reset);
+    const uint32_t end = d.range.end.line == d.range.start.line ? d.range.end.cp_col : start + 1;
+    const ShownLine shown = shown_line(printable(d.line_text, true), start, end);
+    out += fmt::format("{} {} |{} {}\n", blue, num, reset, shown.text);
+    if (shown.carets)
+        out += fmt::format("{} {} |{} {}{}{}{}\n", blue, pad, reset, std::string(shown.caret, ' '),
+                           color ? color_of(d.severity) : "", std::string(shown.carets, '^'), reset);
     for (const auto& n : d.notes) {
         if (n.range && n.range->start.line != d.range.start.line)
             out += fmt::format("{} {} ={} note: {} (line {})\n", blue, pad, reset, printable(n.message, true),

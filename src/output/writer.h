@@ -69,6 +69,20 @@ std::unique_ptr<ReportWriter> make_writer(Format format, std::ostream& out, cons
 // report gives it with the first finding of each rule only).
 std::string render_text_diagnostic(const std::string& path, const Diagnostic& d, bool color,
                                    bool explain_hint = false);
+// The part of a finding's line (made printable) the text report shows, and
+// where its carets go (code points): a line longer than kShownColumns is cut
+// to that many code points around the range start, "..." marking each cut;
+// the carets end at the text shown. A range starting past the text (beyond
+// what was kept of a very long line) gets no caret (carets 0).
+struct ShownLine {
+    std::string text;
+    uint32_t caret = 0;   // columns before the first caret
+    uint32_t carets = 0;  // how many
+};
+inline constexpr uint32_t kShownColumns = 120;
+inline constexpr uint32_t kShownBefore = 40;  // columns kept before the range when the line is cut
+ShownLine shown_line(std::string_view line, uint32_t start, uint32_t end);
+
 // The text report's last line: "2 errors, 1 warning, 0 infos in 3 files".
 std::string render_summary(const Counts& counts);
 

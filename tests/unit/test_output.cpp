@@ -176,6 +176,56 @@ TEST_CASE("text format: the first finding of each rule in a run points at its ex
     CHECK(render_report({a, b}, Format::Gcc).find("osplint explain") == std::string::npos);
 }
 
+TEST_CASE("text format: a long line is cut around its range, the carets stay under the range") {
+    // A short line is shown whole, the carets under the range.
+    ShownLine s = shown_line("G0 X10 Y20", 3, 6);
+    CHECK(s.text == "G0 X10 Y20");
+    CHECK(s.caret == 3);
+    CHECK(s.carets == 3);
+    // A range at the end of the line (an insertion point) gets one caret after it.
+    s = shown_line("G0 X10", 6, 6);
+    CHECK(s.caret == 6);
+    CHECK(s.carets == 1);
+
+    // A line of 5,000 code points with a range from column 3,000 to its end.
+    std::string line = "G0 X";
+    for (int i = 0; i < 4996; ++i) line += "\xC3\xA9";  // a 2-byte code point, one column
+    const uint32_t cps = 5000;
+    s = shown_line(line, 3000, cps);
+    CHECK(s.text.substr(0, 3) == "...");
+    CHECK(s.text.substr(s.text.size() - 3) == "...");
+    // kShownColumns code points between the cuts, kShownBefore of them before the range.
+    CHECK(s.text.size() == 3 + 2 * kShownColumns + 3);  // every code point shown is 2 bytes
+    CHECK(s.caret == 3 + kShownBefore);
+    CHECK(s.carets == kShownColumns - kShownBefore);  // up to the cut, not to the end of the line
+
+    // Near the start, no cut before; near the end, no cut after and the window ends with the line.
+    s = shown_line(line, 2, 3);
+    CHECK(s.text.substr(0, 4) == "G0 X");
+    CHECK(s.caret == 2);
+    s = shown_line(line, cps - 1, cps);
+    CHECK(s.text.substr(0, 3) == "...");
+    CHECK(s.text.substr(s.text.size() - 2) == "\xC3\xA9");
+    CHECK(s.caret == 3 + kShownColumns - 1);
+    CHECK(s.carets == 1);
+    // A range past the text kept: the line, cut, without carets.
+    s = shown_line("G0 X10...", 4000, 4001);
+    CHECK(s.carets == 0);
+
+    // Through the renderer: the report of a finding on such a line stays a few lines of bounded width.
+    Diagnostic d;
+    d.rule = "OSP001";
+    d.message = "too long";
+    d.range.start = {1, 3000, 3000, 3000};
+    d.range.end = {1, cps, cps, cps};
+    d.line_text = line;
+    const std::string out = render_text_diagnostic("A.MIN", d, false);
+    size_t widest = 0, from = 0;
+    for (size_t nl = out.find('\n'); nl != std::string::npos; from = nl + 1, nl = out.find('\n', from))
+        widest = std::max(widest, nl - from);
+    CHECK(widest < 2 * kShownColumns + 20);
+}
+
 TEST_CASE("SARIF: required structure, rules, ruleIndex, levels, columns, locations") {
     auto results = check("/proj/parts/P.MIN", kProgram);
     FileResult missing;
