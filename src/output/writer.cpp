@@ -12,6 +12,7 @@
 
 #include "osplint/osplint.h"
 #include "output/html.h"
+#include "output/json_text.h"
 #include "rules/registry.h"
 #include "support/embedded.h"
 #include "support/io.h"
@@ -65,10 +66,6 @@ std::string_view sarif_level(Severity s) { return level(s, "note"); }
 
 std::string dump(const ojson& j) { return j.dump(-1, ' ', false, ojson::error_handler_t::replace); }
 
-ojson range_json(const SourceRange& r) {
-    return {{"start", {{"line", r.start.line}, {"column", r.start.cp_col + 1}}},
-            {"end", {{"line", r.end.line}, {"column", r.end.cp_col + 1}}}};
-}
 
 // ------------------------------------------------------------------ text
 
@@ -142,33 +139,42 @@ private:
 
 // ------------------------------------------------------------------ json
 
-ojson diagnostic_json(const Diagnostic& d) {
-    ojson notes = ojson::array();
+void range_members(JsonText& j, const SourceRange& r) {
+    j.begin_object();
+    j.key("start").begin_object().key("line").value(r.start.line).key("column").value(r.start.cp_col + 1).end_object();
+    j.key("end").begin_object().key("line").value(r.end.line).key("column").value(r.end.cp_col + 1).end_object();
+    j.end_object();
+}
+
+// A finding's members in the JSON report, written into the object open in `j`.
+void diagnostic_members(JsonText& j, const Diagnostic& d) {
+    j.key("rule").value(d.rule).key("name").value(d.name).key("severity").value(severity_name(d.severity));
+    j.key("message").value(d.message);
+    range_members(j.key("range"), d.range);
+    j.key("notes").begin_array();
     for (const auto& n : d.notes) {
-        ojson jn = {{"message", n.message}};
-        if (n.range) jn["range"] = range_json(*n.range);
-        notes.push_back(std::move(jn));
+        j.begin_object().key("message").value(n.message);
+        if (n.range) range_members(j.key("range"), *n.range);
+        j.end_object();
     }
-    ojson fixes = ojson::array();
+    j.end_array();
+    j.key("fixes").begin_array();
     for (const auto& f : d.fixes) {
-        ojson edits = ojson::array();
-        for (const auto& e : f.edits) edits.push_back({{"range", range_json(e.range)}, {"replacement", e.replacement}});
-        fixes.push_back({{"title", f.title}, {"safe", f.safe}, {"edits", std::move(edits)}});
+        j.begin_object().key("title").value(f.title).key("safe").value(f.safe).key("edits").begin_array();
+        for (const auto& e : f.edits) {
+            j.begin_object();
+            range_members(j.key("range"), e.range);
+            j.key("replacement").value(e.replacement).end_object();
+        }
+        j.end_array().end_object();
     }
-    ojson j = {{"rule", d.rule},
-               {"name", d.name},
-               {"severity", severity_name(d.severity)},
-               {"message", d.message},
-               {"range", range_json(d.range)},
-               {"notes", std::move(notes)},
-               {"fixes", std::move(fixes)},
-               {"fingerprint", d.fingerprint}};
+    j.end_array();
+    j.key("fingerprint").value(d.fingerprint);
     if (d.folded) {
-        ojson f = {{"count", d.folded}};
-        if (d.folded_last) f["last"] = range_json(*d.folded_last);
-        j["folded"] = std::move(f);
+        j.key("folded").begin_object().key("count").value(d.folded);
+        if (d.folded_last) range_members(j.key("last"), *d.folded_last);
+        j.end_object();
     }
-    return j;
 }
 
 // The versioned JSON contract (version 1):
@@ -189,20 +195,28 @@ public:
         suppressed_count_ = 0;
     }
     void diagnostic(Diagnostic&& d) override {
-        out_ << (first_ ? "\n" : ",\n") << dump(diagnostic_json(d));
+        text_.assign(first_ ? "\n" : ",\n");
+        JsonText j(text_);
+        j.begin_object();
+        diagnostic_members(j, d);
+        j.end_object();
+        out_ << text_;
         first_ = false;
     }
     void suppressed(SuppressedDiagnostic&& s) override {
-        ojson j = diagnostic_json(s.diagnostic);
-        ojson how = {{"kind", s.kind == SuppressedDiagnostic::Kind::Baseline ? "baseline" : "inSource"},
-                     {"reason", s.reason},
-                     {"scope", s.kind == SuppressedDiagnostic::Kind::Baseline ? "baseline"
-                               : s.file_scope                                 ? "file"
-                                                                              : "block"}};
-        if (s.directive) how["directive"] = range_json(*s.directive);
-        j["suppression"] = std::move(how);
-        suppressed_.append(suppressed_count_++ ? ",\n" : "\n");
-        suppressed_.append(dump(j));
+        text_.assign(suppressed_count_++ ? ",\n" : "\n");
+        JsonText j(text_);
+        j.begin_object();
+        diagnostic_members(j, s.diagnostic);
+        j.key("suppression").begin_object();
+        j.key("kind").value(s.kind == SuppressedDiagnostic::Kind::Baseline ? "baseline" : "inSource");
+        j.key("reason").value(s.reason);
+        j.key("scope").value(s.kind == SuppressedDiagnostic::Kind::Baseline ? "baseline"
+                             : s.file_scope                                 ? "file"
+                                                                            : "block");
+        if (s.directive) range_members(j.key("directive"), *s.directive);
+        j.end_object().end_object();
+        suppressed_.append(text_);
     }
     void end_file(const std::string&, const std::string& io_error) override {
         out_ << "],\"suppressed\":[";
@@ -230,6 +244,7 @@ private:
     bool first_ = true;
     Spool suppressed_;
     size_t suppressed_count_ = 0;
+    std::string text_;  // the finding being written (its capacity kept from one to the next)
 };
 
 // ----------------------------------------------------------------- sarif
@@ -303,13 +318,6 @@ ojson rule_descriptor(const std::string& id, const std::string& name, Severity s
     return r;
 }
 
-ojson region(const SourceRange& r) {
-    return {{"startLine", r.start.line},
-            {"startColumn", r.start.utf16_col + 1},
-            {"endLine", r.end.line},
-            {"endColumn", r.end.utf16_col + 1}};
-}
-
 // SARIF 2.1.0: one run. The results are written as they come; the run's
 // other members (the rules the results use, in the order they first appear,
 // and the invocation, which says whether every file could be read) follow
@@ -328,6 +336,7 @@ public:
         bool relative = false;
         artifact_ = {{"uri", sarif_artifact_uri(path, root_, relative)}};
         if (relative) artifact_["uriBaseId"] = "%SRCROOT%";
+        artifact_text_ = dump(artifact_);
     }
     void diagnostic(Diagnostic&& d) override { write(d, nullptr); }
     void suppressed(SuppressedDiagnostic&& s) override { write(s.diagnostic, &s); }
@@ -363,53 +372,78 @@ private:
         if (inserted) rules_.push_back({d.rule, d.name, d.severity});
         return it->second;
     }
-    ojson location(const SourceRange& range) const {
-        return ojson{{"physicalLocation", {{"artifactLocation", artifact_}, {"region", region(range)}}}};
+    void region(JsonText& j, const SourceRange& r) const {
+        j.begin_object().key("startLine").value(r.start.line).key("startColumn").value(r.start.utf16_col + 1);
+        j.key("endLine").value(r.end.line).key("endColumn").value(r.end.utf16_col + 1).end_object();
+    }
+    void physical_location(JsonText& j, const SourceRange& range) const {
+        j.begin_object().key("artifactLocation").raw(artifact_text_);
+        region(j.key("region"), range);
+        j.end_object();
     }
     void write(const Diagnostic& d, const SuppressedDiagnostic* sp) {
-        std::string text = d.message;
-        ojson related = ojson::array();
-        int next_id = 1;
-        for (const auto& n : d.notes) {
-            text += "\nNote: " + n.message;
-            if (n.range)
-                related.push_back({{"id", next_id++},
-                                   {"message", {{"text", n.message}}},
-                                   {"physicalLocation", location(*n.range)["physicalLocation"]}});
-        }
-        ojson res = {{"ruleId", d.rule},
-                     {"ruleIndex", rule_index(d)},
-                     {"level", sarif_level(d.severity)},
-                     {"message", {{"text", text}}},
-                     {"locations", ojson::array({location(d.range)})},
-                     {"partialFingerprints", {{std::string(kFingerprintKey), d.fingerprint}}}};
-        if (!related.empty()) res["relatedLocations"] = std::move(related);
-        if (!d.fixes.empty()) {
-            ojson fixes = ojson::array();
-            for (const auto& f : d.fixes) {
-                ojson replacements = ojson::array();
-                for (const auto& e : f.edits)
-                    replacements.push_back({{"deletedRegion", region(e.range)}, {"insertedContent", {{"text", e.replacement}}}});
-                fixes.push_back({{"description", {{"text", f.title}}},
-                                 {"artifactChanges", ojson::array({{{"artifactLocation", artifact_},
-                                                                    {"replacements", std::move(replacements)}}})},
-                                 {"properties", {{"safe", f.safe}}}});
+        std::string message = d.message;
+        for (const auto& n : d.notes) message += "\nNote: " + n.message;
+        text_.assign(results_++ ? ",\n" : "\n");
+        JsonText j(text_);
+        j.begin_object().key("ruleId").value(d.rule).key("ruleIndex").value(uint64_t{rule_index(d)});
+        j.key("level").value(sarif_level(d.severity));
+        j.key("message").begin_object().key("text").value(message).end_object();
+        j.key("locations").begin_array().begin_object();
+        physical_location(j.key("physicalLocation"), d.range);
+        j.end_object().end_array();
+        j.key("partialFingerprints").begin_object().key(kFingerprintKey).value(d.fingerprint).end_object();
+        if (std::any_of(d.notes.begin(), d.notes.end(), [](const Note& n) { return n.range.has_value(); })) {
+            j.key("relatedLocations").begin_array();
+            int next_id = 1;
+            for (const auto& n : d.notes) {
+                if (!n.range) continue;
+                j.begin_object().key("id").value(next_id++);
+                j.key("message").begin_object().key("text").value(n.message).end_object();
+                physical_location(j.key("physicalLocation"), *n.range);
+                j.end_object();
             }
-            res["fixes"] = std::move(fixes);
+            j.end_array();
+        }
+        if (!d.fixes.empty()) {
+            j.key("fixes").begin_array();
+            for (const auto& f : d.fixes) {
+                j.begin_object().key("description").begin_object().key("text").value(f.title).end_object();
+                j.key("artifactChanges").begin_array().begin_object().key("artifactLocation").raw(artifact_text_);
+                j.key("replacements").begin_array();
+                for (const auto& e : f.edits) {
+                    j.begin_object();
+                    region(j.key("deletedRegion"), e.range);
+                    j.key("insertedContent").begin_object().key("text").value(e.replacement).end_object();
+                    j.end_object();
+                }
+                j.end_array().end_object().end_array();
+                j.key("properties").begin_object().key("safe").value(f.safe).end_object();
+                j.end_object();
+            }
+            j.end_array();
         }
         if (sp) {
-            ojson s = {{"kind", sp->kind == SuppressedDiagnostic::Kind::Baseline ? "external" : "inSource"}};
-            if (!sp->reason.empty()) s["justification"] = sp->reason;
-            if (sp->directive) s["location"] = location(*sp->directive);
-            res["suppressions"] = ojson::array({std::move(s)});
+            j.key("suppressions").begin_array().begin_object();
+            j.key("kind").value(sp->kind == SuppressedDiagnostic::Kind::Baseline ? "external" : "inSource");
+            if (!sp->reason.empty()) j.key("justification").value(sp->reason);
+            if (sp->directive) {
+                j.key("location").begin_object();
+                physical_location(j.key("physicalLocation"), *sp->directive);
+                j.end_object();
+            }
+            j.end_object().end_array();
         }
-        if (d.folded) res["properties"] = {{"osplintFolded", d.folded}};
-        out_ << (results_++ ? ",\n" : "\n") << dump(res);
+        if (d.folded) j.key("properties").begin_object().key("osplintFolded").value(d.folded).end_object();
+        j.end_object();
+        out_ << text_;
     }
 
     std::ostream& out_;
     fs::path root_;
     ojson artifact_;
+    std::string artifact_text_;  // artifact_, dumped once per file
+    std::string text_;           // the result being written (its capacity kept from one to the next)
     size_t results_ = 0;
     std::vector<RuleUse> rules_;
     std::map<std::string, size_t> index_;

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "output/html.h"
+#include "output/json_text.h"
 #include "output/ordered.h"
 #include "output/pipeline.h"
 #include "output/sideview.h"
@@ -224,6 +225,36 @@ TEST_CASE("text format: a long line is cut around its range, the carets stay und
     for (size_t nl = out.find('\n'); nl != std::string::npos; from = nl + 1, nl = out.find('\n', from))
         widest = std::max(widest, nl - from);
     CHECK(widest < 2 * kShownColumns + 20);
+}
+
+TEST_CASE("JsonText writes the bytes nlohmann::json's dump gives for the same document") {
+    // Strings of every kind: plain, quotes and backslashes, control bytes, DEL,
+    // UTF-8, invalid UTF-8 (replaced), empty.
+    std::vector<std::string> strings = {"OSP301", "say \"hi\" \\ there", std::string("a\0b\x01\x1f\t\n\r", 9), "\x7f",
+                                        "caf\xC3\xA9 \xF0\x9F\x93\x90", "bad \xC3 \xFF\xFE end", ""};
+    uint32_t seed = 7;
+    for (int i = 0; i < 500; ++i) {  // random bytes, biased to the troublesome ones
+        std::string r;
+        for (int k = 0; k < 12; ++k) {
+            seed = seed * 1103515245u + 12345u;
+            const unsigned b = (seed >> 16) & 0xFF;
+            r += static_cast<char>(b % 3 == 0 ? b : b % 3 == 1 ? 'A' + b % 26 : 0x80 | (b & 0x3F));
+        }
+        strings.push_back(r);
+    }
+    for (const auto& str : strings) {
+        nlohmann::ordered_json doc = {{"s", str}, {"n", 42}, {"neg", -3}, {"b", false},
+                                      {"list", {str, 0, true}}, {"empty", nlohmann::ordered_json::array()},
+                                      {"obj", {{"k", str}}}};
+        std::string text;
+        JsonText j(text);
+        j.begin_object().key("s").value(str).key("n").value(uint64_t{42}).key("neg").value(-3).key("b").value(false);
+        j.key("list").begin_array().value(str).value(0).value(true).end_array();
+        j.key("empty").begin_array().end_array();
+        j.key("obj").begin_object().key("k").value(str).end_object();
+        j.end_object();
+        CHECK(text == doc.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace));
+    }
 }
 
 TEST_CASE("SARIF: required structure, rules, ruleIndex, levels, columns, locations") {
