@@ -66,7 +66,6 @@ std::string_view sarif_level(Severity s) { return level(s, "note"); }
 
 std::string dump(const ojson& j) { return j.dump(-1, ' ', false, ojson::error_handler_t::replace); }
 
-
 // ------------------------------------------------------------------ text
 
 class TextWriter final : public ReportWriter {
