@@ -222,6 +222,34 @@ void MacroSpec::index_args() {
     for (const Relation& r : relations) relation_sides_.push_back(relation_sides(r, *this));
     relation_sides_of = relations.size();
     relation_sides_args_ = args.size();
+    step_sides_.clear();
+    for (const ActionStep& step : action) step_sides_.push_back(osplint::step_sides(step, *this));
+    step_sides_of = action.size();
+    step_sides_args_ = args.size();
+}
+
+namespace {
+
+// The argument of each term of `terms` (its index in the spec's args; -1 for
+// a number or a name that is no argument of the spec).
+void link_terms(const std::optional<std::vector<ExprTerm>>& terms, const MacroSpec& spec, std::vector<int>& args) {
+    if (!terms) return;
+    for (const ExprTerm& t : *terms) {
+        const ArgSpec* a = t.name.empty() ? nullptr : spec.arg(t.name);
+        args.push_back(a ? static_cast<int>(a - spec.args.data()) : -1);
+    }
+}
+
+}  // namespace
+
+StepSides step_sides(const ActionStep& step, const MacroSpec& spec) {
+    StepSides out;
+    if (!step.target.empty()) out.target = parse_catalog_expr(step.target);
+    else if (!step.by.empty()) out.by = parse_catalog_expr(step.by);
+    else out.to_limit = contains_ci(step.text, "+ limit");
+    link_terms(out.target, spec, out.target_args);
+    link_terms(out.by, spec, out.by_args);
+    return out;
 }
 
 
@@ -229,15 +257,8 @@ RelationSides relation_sides(const Relation& r, const MacroSpec& spec) {
     RelationSides out;
     out.left = parse_catalog_expr(r.left);
     out.right = parse_catalog_expr(r.right);
-    const auto link = [&](const std::optional<std::vector<ExprTerm>>& terms, std::vector<int>& args) {
-        if (!terms) return;
-        for (const ExprTerm& t : *terms) {
-            const ArgSpec* a = t.name.empty() ? nullptr : spec.arg(t.name);
-            args.push_back(a ? static_cast<int>(a - spec.args.data()) : -1);
-        }
-    };
-    link(out.left, out.left_args);
-    link(out.right, out.right_args);
+    link_terms(out.left, spec, out.left_args);
+    link_terms(out.right, spec, out.right_args);
     // The left side read first: a cycle-axis name there decides; a side not
     // read orders nothing (the catalog refuses such a side when it loads).
     const auto names_cycle_axis = [&](const std::vector<int>& args) {

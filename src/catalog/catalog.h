@@ -209,6 +209,14 @@ struct ActionStep {
     std::string source;
 };
 
+// A step's `target` and `by` as the envelope reads them at every call: parsed,
+// and each term's argument found (as RelationSides).
+struct StepSides {
+    std::optional<std::vector<ExprTerm>> target, by;  // nullopt: empty, or not in the syntax
+    std::vector<int> target_args, by_args;            // one per term
+    bool to_limit = false;  // neither: the step's text says it goes to the + travel limit
+};
+
 struct CatalogNote {
     std::string text;
     std::string source;
@@ -275,7 +283,7 @@ struct MacroSpec {
     // made for another number of arguments: arg() compares the names.
     std::vector<std::pair<uint64_t, uint16_t>> arg_index;
     size_t arg_index_of = 0;  // args.size() when it was made
-    // Makes arg_index and relation_sides_.
+    // Makes arg_index, relation_sides_ and step_sides_.
     void index_args();
     // `relations` with their sides read (relation_sides), made with
     // index_args; for another number of relations, sides() makes none.
@@ -288,6 +296,18 @@ struct MacroSpec {
         return relation_sides_of == relations.size() && relation_sides_args_ == args.size() &&
                        i < relation_sides_.size()
                    ? &relation_sides_[i]
+                   : nullptr;
+    }
+
+    // `action` with its steps read (step_sides), made with index_args.
+    std::vector<StepSides> step_sides_;
+    size_t step_sides_of = 0;     // action.size() when they were made
+    size_t step_sides_args_ = 0;  // args.size() then
+    // The sides of step `i`, or nullptr when they were not made (then the
+    // envelope reads the step's texts).
+    const StepSides* step_sides(size_t i) const {
+        return step_sides_of == action.size() && step_sides_args_ == args.size() && i < step_sides_.size()
+                   ? &step_sides_[i]
                    : nullptr;
     }
 
@@ -402,5 +422,7 @@ const std::vector<ExprTerm>* catalog_expr(std::string_view text);
 
 // The sides of relation `r` of `spec`, read (what MacroSpec::sides holds).
 RelationSides relation_sides(const Relation& r, const MacroSpec& spec);
+// The sides of action step `step` of `spec`, read (what MacroSpec::step_sides holds).
+StepSides step_sides(const ActionStep& step, const MacroSpec& spec);
 
 }  // namespace osplint

@@ -10,42 +10,16 @@
 namespace osplint::motion_detail {
 
 
-bool contains_ci(std::string_view hay, std::string_view needle) {
-    const auto up = [](char c) { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; };
-    if (needle.empty()) return true;
-    if (hay.size() < needle.size()) return false;
-    const char first = up(needle[0]);
-    const bool letter = first >= 'A' && first <= 'Z';
-    const char* const last = hay.data() + (hay.size() - needle.size());
-    for (const char* p = hay.data(); p <= last; ++p) {
-        // A first character that has no other case is found by memchr (`+ limit`).
-        if (!letter) {
-            p = static_cast<const char*>(std::memchr(p, first, static_cast<size_t>(last - p) + 1));
-            if (!p) return false;
-        } else if (up(*p) != first) {
-            continue;
-        }
-        size_t k = 1;
-        while (k < needle.size() && up(p[k]) == up(needle[k])) ++k;
-        if (k == needle.size()) return true;
-    }
-    return false;
-}
-
 // --- Tri-state values ------------------------------------------------------------
 
 Tri tri_of(const Val<bool>& v) { return v.known ? (v.value ? Tri::True : Tri::False) : Tri::Unknown; }
 
 // --- Argument values ----------------------------------------------------------
 
-namespace {
-
 bool zero_when_absent(const ArgSpec& a) {
     return a.omitted == ArgOmitted::None &&
            (a.role == ArgRole::Length || a.role == ArgRole::Stroke || a.role == ArgRole::Shift);
 }
-
-}  // namespace
 
 Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lookup& lookup, bool conditional,
                         bool describe) {

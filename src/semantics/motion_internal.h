@@ -28,8 +28,8 @@ namespace osplint::motion_detail {
 inline std::string num(double v) { return motion_number(v); }
 // A number as a term of a sum: negative numbers in parentheses.
 inline std::string paren(double v) { return v < 0 ? "(" + num(v) + ")" : num(v); }
-using osplint::upper;  // support/text.h
-bool contains_ci(std::string_view hay, std::string_view needle);
+using osplint::contains_ci;  // support/text.h
+using osplint::upper;
 
 // --- Blocks and the configuration -----------------------------------------------
 
@@ -63,6 +63,10 @@ struct Evaluated {
     bool skip = false;   // the step does not run (an argument it needs is not given)
     std::string why;     // why skipped / unknown
 };
+
+// An argument the expressions take as 0 when it is not given (a length, a
+// stroke or a shift that the manual gives no default).
+bool zero_when_absent(const ArgSpec& a);
 
 // Refers to a callable the caller keeps alive (a named lambda), not a copy.
 using Lookup = FunctionRef<ArgValue(const std::string&)>;

@@ -29,8 +29,9 @@ struct MacroRun {
 
     // The value of an argument: as written, the default, or (for a cycle-axis
     // argument that is omitted) the current position.
-    ArgValue arg(const std::string& name) const {
-        const ArgSpec* as = spec.arg(name);
+    ArgValue arg(const std::string& name) const { return arg_of(spec.arg(name), name); }
+    // The same, with the spec's argument of that name already found (nullptr: none).
+    ArgValue arg_of(const ArgSpec* as, const std::string& name) const {
         ArgValue out;
         if (const MacroArg* m = given_arg(call, as, name)) {
             if (m->value.known) {
@@ -63,6 +64,48 @@ struct MacroRun {
             }
         }
         return out;
+    }
+
+    // What evaluate_expr gives for a step's expression, its terms read and
+    // their arguments found once for the macro (StepSides): without text (with
+    // `describe`, or for an expression not read, evaluate_expr itself).
+    Evaluated step_value(const ActionStep& step, bool by, const Lookup& lookup, bool conditional) const {
+        const StepSides* sides = describe ? nullptr : spec.step_sides(static_cast<size_t>(&step - spec.action.data()));
+        const std::optional<std::vector<ExprTerm>>* read = sides ? (by ? &sides->by : &sides->target) : nullptr;
+        if (!read || !*read) return evaluate_expr(by ? step.by : step.target, &spec, lookup, conditional, describe);
+        const std::vector<ExprTerm>* terms = &**read;
+        const std::vector<int>& args = by ? sides->by_args : sides->target_args;
+        Evaluated out;
+        double sum = 0;
+        bool known = true;
+        for (size_t k = 0; k < terms->size(); ++k) {
+            const ExprTerm& t = (*terms)[k];
+            double v = t.number;
+            if (!t.name.empty()) {
+                const ArgSpec* as = args[k] >= 0 ? &spec.args[static_cast<size_t>(args[k])] : nullptr;
+                const ArgValue av = arg_of(as, t.name);
+                if (av.state == ArgValue::State::Absent) {
+                    if ((as && as->undocumented) || conditional) {
+                        out.skip = true;
+                        return out;
+                    }
+                    if (as && zero_when_absent(*as)) v = 0;
+                    else known = false;
+                } else if (av.state == ArgValue::State::Unknown) {
+                    known = false;
+                } else {
+                    v = av.value;
+                }
+            }
+            sum += t.sign * v;
+        }
+        if (known) out.value = Val<double>::of(sum);
+        return out;
+    }
+    // Whether a step that has neither `target` nor `by` goes to the + travel limit.
+    bool to_limit(const ActionStep& step) const {
+        const StepSides* sides = spec.step_sides(static_cast<size_t>(&step - spec.action.data()));
+        return sides ? sides->to_limit : contains_ci(step.text, "+ limit");
     }
 
     // Whether the return level M52/M53/M54 is in effect for the macro.
@@ -107,7 +150,7 @@ struct ActionWalk {
 // step does not run (an argument it needs is not given).
 bool target_step(const MacroRun& run, const Lookup& lookup, const ActionStep& step, MotionPoint& p, ActionWalk& walk,
                  Envelope& env) {
-    Evaluated e = evaluate_expr(step.target, &run.spec, lookup, !step.when.empty(), run.describe);
+    Evaluated e = run.step_value(step, false, lookup, !step.when.empty());
     if (e.skip) {
         if (run.describe) env.notes.push_back("step " + step.step + " (" + step.target + ") skipped: " + e.why);
         return false;
@@ -134,7 +177,7 @@ bool target_step(const MacroRun& run, const Lookup& lookup, const ActionStep& st
 // not print, so a possible point either way. False when the step does not run.
 bool stroke_step(const MacroRun& run, const Lookup& lookup, const ActionStep& step, MotionPoint& p, ActionWalk& walk,
                  Envelope& env) {
-    Evaluated e = evaluate_expr(step.by, &run.spec, lookup, false, run.describe);
+    Evaluated e = run.step_value(step, true, lookup, false);
     if (e.skip) {
         if (run.describe) env.notes.push_back("step " + step.step + " (by " + step.by + ") skipped: " + e.why);
         return false;
@@ -195,7 +238,7 @@ void walk_action(const MacroRun& run, const Lookup& lookup, Envelope& env) {
         Tri cond = step.when.eval(atom);
         if (cond == Tri::False) continue;
         const bool target = !step.target.empty(), by = !target && !step.by.empty();
-        const bool limit = !target && !by && contains_ci(step.text, "+ limit");
+        const bool limit = !target && !by && run.to_limit(step);
         if (!target && !by && !limit) continue;  // no cycle-axis motion
         MotionPoint& p = env.points.emplace_back();
         if (run.describe) p = step_point(step);
@@ -223,15 +266,15 @@ Val<double> action_end(const MacroRun& run, const Lookup& lookup, char axis) {
         const Tri cond = step.when.eval(atom);
         if (cond == Tri::False) continue;
         if (!step.target.empty()) {
-            Evaluated e = evaluate_expr(step.target, &run.spec, lookup, !step.when.empty(), false);
+            Evaluated e = run.step_value(step, false, lookup, !step.when.empty());
             if (e.skip) continue;
             return cond == Tri::True ? e.value : Val<double>{};
         }
         if (!step.by.empty()) {
-            if (evaluate_expr(step.by, &run.spec, lookup, false, false).skip) continue;
+            if (run.step_value(step, true, lookup, false).skip) continue;
             return {};  // a stroke of unprinted direction
         }
-        if (contains_ci(step.text, "+ limit")) {
+        if (run.to_limit(step)) {
             if (cond != Tri::True || !run.config) return {};
             auto mx = travel_max(*run.config, axis);
             return mx ? Val<double>::of(*mx) : Val<double>{};

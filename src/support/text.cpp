@@ -1,6 +1,7 @@
 #include "support/text.h"
 
 #include <algorithm>
+#include <cstring>
 #include <vector>
 
 namespace osplint {
@@ -76,6 +77,28 @@ std::string abbreviate(std::string_view s, size_t max) {
     size_t cut = max > 3 ? max - 3 : 0;
     while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
     return std::string(s.substr(0, cut)) + "...";
+}
+
+bool contains_ci(std::string_view hay, std::string_view needle) {
+    const auto up = ascii_upper;
+    if (needle.empty()) return true;
+    if (hay.size() < needle.size()) return false;
+    const char first = up(needle[0]);
+    const bool letter = first >= 'A' && first <= 'Z';
+    const char* const last = hay.data() + (hay.size() - needle.size());
+    for (const char* p = hay.data(); p <= last; ++p) {
+        // A first character that has no other case is found by memchr (`+ limit`).
+        if (!letter) {
+            p = static_cast<const char*>(std::memchr(p, first, static_cast<size_t>(last - p) + 1));
+            if (!p) return false;
+        } else if (up(*p) != first) {
+            continue;
+        }
+        size_t k = 1;
+        while (k < needle.size() && up(p[k]) == up(needle[k])) ++k;
+        if (k == needle.size()) return true;
+    }
+    return false;
 }
 
 }  // namespace osplint

@@ -23,6 +23,8 @@ inline bool iequals(std::string_view a, std::string_view b) {  // inline: the ca
         if (ascii_upper(a[i]) != ascii_upper(b[i])) return false;
     return true;
 }
+// Whether `hay` holds `needle`, ignoring ASCII case.
+bool contains_ci(std::string_view hay, std::string_view needle);
 // `s` without leading and trailing blanks (space, tab, form feed, vertical tab).
 std::string_view trim_blanks(std::string_view s);
 
