@@ -24,17 +24,24 @@ using namespace fast_detail;
 // The glued number of `X-.75` at p: a Number (signed: Unary over it).
 OSPLINT_HOT uint32_t FastLineParser::Impl::word_number(Word& w, uint32_t p) {
     uint32_t j = p;
-    const char sign = (j < n && (s[j] == '+' || s[j] == '-')) ? s[j] : 0;
-    if (sign) ++j;
+    if (j < n && (s[j] == '+' || s[j] == '-')) ++j;
     const uint32_t digits = j;
     double v = 0;
     j = scan_number_at(s, digits, n, v);
     if (j == digits || (j < n && s[j] == '.')) return kFail;
-    ExprNode& num = new_expr(ExprKind::Number, abs(digits, j));
+    number_value(w, p, digits, j, v);
+    return j;
+}
+
+// The value of a word scanned at [p, e), the digits from `digits` on (a sign
+// before them): a Number node, under a Unary one when signed.
+OSPLINT_HOT void FastLineParser::Impl::number_value(Word& w, uint32_t p, uint32_t digits, uint32_t e, double v) {
+    const char sign = digits > p ? s[p] : 0;
+    ExprNode& num = new_expr(ExprKind::Number, abs(digits, e));
     num.number = v;
     const ExprId num_id = last_expr();
     if (sign) {
-        ExprNode& un = new_expr(ExprKind::Unary, abs(p, j), sign);
+        ExprNode& un = new_expr(ExprKind::Unary, abs(p, e), sign);
         set_child(un.children, num_id);
         w.value = last_expr();
         w.number = sign == '-' ? -v : v;
@@ -42,9 +49,8 @@ OSPLINT_HOT uint32_t FastLineParser::Impl::word_number(Word& w, uint32_t p) {
         w.value = num_id;
         w.number = v;
     }
-    w.value_range = abs(p, j);
-    set_text(w.value_text, s + p, j - p);
-    return j;
+    w.value_range = abs(p, e);
+    set_text(w.value_text, s + p, e - p);
 }
 
 // `NAME = expr` or `NAME[..] = expr` with the name at [p, e).
@@ -269,31 +275,29 @@ uint32_t FastLineParser::Impl::loop_number(uint32_t p, int& loop) const {
 
 // `Pname=number` at p: a name of P, a letter, then letters or digits (no
 // keyword starts with P, and `=` follows it), then an optional sign and a
-// decimal literal of at most 15 digits, followed by a blank or the end.
+// decimal literal of at most 15 digits, followed by a blank or the end. The
+// number is valued as it is scanned (plain_arg_word does not read it again).
 bool FastLineParser::Impl::plain_arg(uint32_t p, PlainArg& a) const {
-    if ((s[p] != 'P' && s[p] != 'p') || p + 1 >= n || !is_letter(s[p + 1])) return false;  // `P1=`: a glued word
-    const uint32_t e = alnum_end(p);
+    const auto cls = [&](uint32_t i) { return kClass[static_cast<unsigned char>(s[i])]; };
+    if ((s[p] | 0x20) != 'p' || p + 1 >= n || !(cls(p + 1) & kLetterClass)) return false;  // `P1=`: a glued word
+    uint32_t e = p + 2;
+    while (e < n && (cls(e) & (kLetterClass | kDigitClass))) ++e;
     if (e - p > kNameMax) return false;
-    p = skip_blanks(e);
-    if (p >= n || s[p] != '=') return false;
-    p = skip_blanks(p + 1);
     a.name_end = e;
+    p = e;
+    while (p < n && (cls(p) & kBlankClass)) ++p;
+    if (p >= n || s[p] != '=') return false;
+    ++p;
+    while (p < n && (cls(p) & kBlankClass)) ++p;
     a.value_begin = p;
     if (p < n && (s[p] == '+' || s[p] == '-')) ++p;
-    uint32_t digits = 0;
-    bool point = false;
-    for (; p < n; ++p) {
-        if (is_digit(s[p])) {
-            ++digits;
-        } else if (s[p] == '.' && !point) {
-            point = true;
-        } else {
-            break;
-        }
-    }
-    if (digits == 0 || digits > 15) return false;
-    if (p < n && !is_blank(s[p])) return false;
-    a.end = p;
+    a.digits_begin = p;
+    const uint32_t end = scan_number_at(s, p, n, a.value);
+    if (end == p || (end < n && !(cls(end) & kBlankClass))) return false;
+    // At most 15 digits (the point aside).
+    const uint32_t len = end - p;
+    if (len > 16 || (len == 16 && !std::memchr(s + p, '.', len))) return false;
+    a.end = end;
     return true;
 }
 
@@ -326,7 +330,7 @@ uint32_t FastLineParser::Impl::plain_arg_word(uint32_t p, const PlainArg& a) {
     Name name;
     read_name(p, a.name_end, name);  // a P name: no loop keyword to split
     Word& w = new_word();
-    if (word_number(w, a.value_begin) != a.end) return kFail;
+    number_value(w, a.value_begin, a.digits_begin, a.end, a.value);
     set_text(w.address, name.text, name.len);
     w.range = {base + p, w.value_range.end};
     w.address_range = abs(p, a.name_end);

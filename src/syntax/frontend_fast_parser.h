@@ -126,11 +126,14 @@ struct FastLineParser::Impl {
         std::string_view view() const { return {text, len}; }
     };
     // A `Pname=number` call argument at p: the end of its name, where its
-    // value (sign included) begins, and its end. Nothing is emitted.
+    // value (sign included) and its digits begin, its end, and the digits'
+    // value. Nothing is emitted.
     struct PlainArg {
         uint32_t name_end = 0;
         uint32_t value_begin = 0;
+        uint32_t digits_begin = 0;  // after the sign
         uint32_t end = 0;
+        double value = 0;  // of the digits, unsigned
     };
     bool plain_arg(uint32_t p, PlainArg& a) const;
     // Whether [p, n) holds only `Pname=number` arguments (parse_outline).
@@ -163,6 +166,7 @@ struct FastLineParser::Impl {
     // --- Block items (frontend_fast.cpp) -------------------------------------------
 
     OSPLINT_HOT uint32_t word_number(Word& w, uint32_t p);
+    OSPLINT_HOT void number_value(Word& w, uint32_t p, uint32_t digits, uint32_t e, double v);
     uint32_t assignment(uint32_t p, uint32_t e, const Name& name, Ctx ctx);
     Word& assigned_word(size_t wi, uint32_t p, uint32_t e);
     uint32_t label_word(uint32_t p, uint32_t e);
