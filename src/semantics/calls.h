@@ -78,6 +78,20 @@ struct ArgLinks {
     std::vector<std::string> names;
     std::vector<const ArgSpec*> specs;
     std::vector<uint16_t> given_index;
+    // The macro and arguments of the last positioning block of an open MODIN,
+    // resolved and linked: the next block of the same MODIN takes them as they
+    // are. `modin_args` holds the MODIN's arguments (ActiveModin::shared_args),
+    // which are never changed while shared: the same pointer, macro and line
+    // are the same MODIN.
+    struct Modin {
+        std::shared_ptr<const ModinArgs> modin_args;
+        std::string macro;
+        uint32_t line = 0;
+        const MacroSpec* spec = nullptr;
+        std::vector<MacroArg> args;
+        std::vector<uint16_t> given_index;
+        bool valid = false;
+    } modin;
 };
 
 // Looks up the catalog's argument of each of `call`'s arguments, so that

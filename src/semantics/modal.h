@@ -167,6 +167,9 @@ struct ActiveModin {
         static const ModinArgs none;
         return args_ ? *args_ : none;
     }
+    // The arguments as shared between the copies of the state: the same
+    // pointer means the same arguments (nullptr: none given).
+    std::shared_ptr<const ModinArgs> shared_args() const { return args_; }
     ModinArgs& args_to_edit() {
         if (!args_ || args_.use_count() > 1) args_ = std::make_shared<ModinArgs>(args());
         return *args_;

@@ -105,8 +105,9 @@ void code_call(const Block& b, const Catalog& catalog, MacroCall& call) {
 }
 
 // A positioning block while a MODIN is open runs the modal macro, with the
-// arguments of the MODIN line.
-bool modin_positioning_call(const Block& b, const ModalState& before, const Catalog& catalog, MacroCall& call) {
+// arguments of the MODIN line: resolved and linked (link_arg_specs) here.
+bool modin_positioning_call(const Block& b, const ModalState& before, const Catalog& catalog, ArgLinks* links,
+                            MacroCall& call) {
     if (!before.modin.known || !before.modin.value) return false;
     if (b.statement(StmtKind::Modout) || b.statement(StmtKind::Modin)) return false;
     if (non_motion_axes(codes(b, 'G'))) return false;
@@ -114,16 +115,36 @@ bool modin_positioning_call(const Block& b, const ModalState& before, const Cata
     const ActiveModin& m = *before.modin.value;
     call.kind = CallKind::ModinPositioning;
     call.name = m.macro;
-    call.spec = catalog.find(m.macro);
     call.modin_line = m.line;
+    for (const auto& w : b.words)
+        if (w.address == "M") call.m_codes.push_back(&w);
+    std::shared_ptr<const ModinArgs> shared = m.shared_args();
+    if (links && links->modin.valid && links->modin.modin_args == shared && links->modin.line == m.line &&
+        links->modin.macro == m.macro) {
+        // The same MODIN as the last positioning block: the same call.
+        call.spec = links->modin.spec;
+        call.args = links->modin.args;
+        call.given_index = links->modin.given_index;
+        return true;
+    }
+    call.spec = catalog.find(m.macro);
     call.args.reserve(m.given().size());
     for (const auto& name : m.given()) call.args.emplace_back().name = name;
     // The known values: one walk of the (small) map, not a search by name per argument.
     for (const auto& [name, value] : m.values())
         for (auto& a : call.args)
             if (same_name(a.name, name)) a.value = Val<double>::of(value);
-    for (const auto& w : b.words)
-        if (w.address == "M") call.m_codes.push_back(&w);
+    link_arg_specs(call, links);
+    if (links) {
+        ArgLinks::Modin& c = links->modin;
+        c.modin_args = std::move(shared);
+        c.macro = m.macro;
+        c.line = m.line;
+        c.spec = call.spec;
+        c.args = call.args;
+        c.given_index = call.given_index;
+        c.valid = true;
+    }
     return true;
 }
 
@@ -214,11 +235,7 @@ bool resolve_call(const Block& b, const ModalState& before, const Catalog& catal
     if (!st) st = b.statement(StmtKind::Modin);
     if (st) statement_call(b, *st, catalog, call);
     else code_call(b, catalog, call);
-    if (call.kind == CallKind::None) {
-        if (!modin_positioning_call(b, before, catalog, call)) return false;
-        link_arg_specs(call, links);
-        return true;
-    }
+    if (call.kind == CallKind::None) return modin_positioning_call(b, before, catalog, links, call);
     link_arg_specs(call, links);
     for (auto& a : call.args)
         if (a.word)
