@@ -95,6 +95,17 @@ SideValue side_value(const std::optional<std::vector<ExprTerm>>& terms, const st
     return s;
 }
 
+// Whether a side may read the current position: it names a cycle-axis
+// argument that, omitted, takes it (and has no default to take instead).
+bool may_read_current(const std::vector<int>& args, const MacroSpec& spec) {
+    for (int i : args) {
+        if (i < 0) continue;
+        const ArgSpec& a = spec.args[static_cast<size_t>(i)];
+        if (!a.default_value && a.omitted == ArgOmitted::Current && a.role == ArgRole::Cycle) return true;
+    }
+    return false;
+}
+
 // A side made only of cycle-axis coordinates and numbers (PR, PZ+1): a point on the axis.
 bool is_point(const std::string& text, const MacroSpec& spec) {
     const auto* terms = catalog_expr(text);
@@ -167,6 +178,11 @@ public:
             const Relation& r = spec->relations[i];
             const RelationSides& sides = macro::sides_of(*spec, i, local);
             if (!sides.cycle_order) continue;
+            // On a positioning block of an open MODIN, only a relation that
+            // may read the current position can say anything new (below).
+            if (c->kind == CallKind::ModinPositioning && !may_read_current(sides.left_args, *spec) &&
+                !may_read_current(sides.right_args, *spec))
+                continue;
             // Only what the call's own words decide.
             const Tri applies = r.when.eval([&](const ConditionAtom& at) {
                 if (at.kind != ConditionAtom::Kind::Given) return Tri::Unknown;
