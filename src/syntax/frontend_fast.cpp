@@ -177,7 +177,7 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
         // general path's keyword and operator checks: its expression ends
         // there when the line does or another P name follows.
         PlainArg a;
-        const bool plain = plain_arg(pos, a);
+        const bool plain = plain_arg<true>(pos, a);
         const uint32_t next = plain ? skip_blanks(a.end) : n;
         pos = plain && (next >= n || upper(s[next]) == 'P') ? plain_arg_word(pos, a) : item(pos, Ctx::CallArgs);
         if (pos == kFail) return kFail;
@@ -276,7 +276,10 @@ uint32_t FastLineParser::Impl::loop_number(uint32_t p, int& loop) const {
 // `Pname=number` at p: a name of P, a letter, then letters or digits (no
 // keyword starts with P, and `=` follows it), then an optional sign and a
 // decimal literal of at most 15 digits, followed by a blank or the end. The
-// number is valued as it is scanned (plain_arg_word does not read it again).
+// number is valued as it is scanned (plain_arg_word does not read it again),
+// with kValue; the outline, which only asks whether the line is such, leaves
+// a.value unset.
+template <bool kValue>
 bool FastLineParser::Impl::plain_arg(uint32_t p, PlainArg& a) const {
     const auto cls = [&](uint32_t i) { return kClass[static_cast<unsigned char>(s[i])]; };
     if ((s[p] | 0x20) != 'p' || p + 1 >= n || !(cls(p + 1) & kLetterClass)) return false;  // `P1=`: a glued word
@@ -292,7 +295,18 @@ bool FastLineParser::Impl::plain_arg(uint32_t p, PlainArg& a) const {
     a.value_begin = p;
     if (p < n && (s[p] == '+' || s[p] == '-')) ++p;
     a.digits_begin = p;
-    const uint32_t end = scan_number_at(s, p, n, a.value);
+    uint32_t end = p;
+    if constexpr (kValue) {
+        end = scan_number_at(s, p, n, a.value);
+    } else {
+        // What scan_number_at accepts: digits, a point, digits; not a point alone.
+        while (end < n && (cls(end) & kDigitClass)) ++end;
+        if (end < n && s[end] == '.') {
+            const uint32_t point = end++;
+            while (end < n && (cls(end) & kDigitClass)) ++end;
+            if (point == p && end == point + 1) end = p;
+        }
+    }
     if (end == p || (end < n && !(cls(end) & kBlankClass))) return false;
     // At most 15 digits (the point aside).
     const uint32_t len = end - p;
@@ -307,7 +321,7 @@ bool FastLineParser::Impl::plain_call_args(uint32_t p) const {
     while (true) {
         p = skip_blanks(p);
         if (p >= n) return true;
-        if (!plain_arg(p, a)) return false;
+        if (!plain_arg<false>(p, a)) return false;
         p = a.end;
     }
 }

@@ -135,6 +135,7 @@ struct FastLineParser::Impl {
         uint32_t end = 0;
         double value = 0;  // of the digits, unsigned
     };
+    template <bool kValue>
     bool plain_arg(uint32_t p, PlainArg& a) const;
     // Whether [p, n) holds only `Pname=number` arguments (parse_outline).
     bool plain_call_args(uint32_t p) const;

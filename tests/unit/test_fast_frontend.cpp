@@ -322,6 +322,23 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
     CHECK_FALSE(plain_call("CALL 100 PX=1"));           // no program name
     CHECK_FALSE(plain_call("MODOUT"));
     CHECK_FALSE(plain_call("GOTO N10"));
+    // The numbers it passes over: what the parser reads as a number word.
+    CHECK(plain_call("CALL O100 PX=5. PY=-.5 PZ=+0"));
+    CHECK(plain_call("CALL O100 PX=123456789012345"));     // 15 digits
+    CHECK(plain_call("CALL O100 PX=12345678901234.5"));    // 15 digits and a point
+    CHECK_FALSE(plain_call("CALL O100 PX=1234567890123456"));  // 16 digits
+    CHECK_FALSE(plain_call("CALL O100 PX=."));             // a point alone
+    CHECK_FALSE(plain_call("CALL O100 PX=-"));
+    CHECK_FALSE(plain_call("CALL O100 PX=1.2.3"));
+    CHECK_FALSE(plain_call("CALL O100 PX=1A"));
+    // The parser values such an argument as it checks it: the same word as
+    // the general path gives (the differential tests compare every field).
+    Block full;
+    p.parse(LineRef{"CALL O100 PX=12345678901234.5 PY=-.5", "\n", 1, 0}, full);
+    REQUIRE(full.words.size() == 2);
+    CHECK(full.words[0].number == 12345678901234.5);
+    CHECK(full.words[1].number == -0.5);
+    CHECK(full.words[1].value_text == "-.5");
 }
 
 namespace {
