@@ -30,6 +30,13 @@ Evaluated evaluate_expr(const std::string& text, const MacroSpec* spec, const Lo
         out.worked = "? (" + out.why + ")";
         return out;
     }
+    if (!describe)
+        return sum_values(*terms, conditional, [&](size_t k) {
+            const std::string& name = (*terms)[k].name;
+            ArgValue av = lookup(name);
+            const ArgSpec* as = av.state == ArgValue::State::Absent && spec ? spec->arg(name) : nullptr;
+            return std::pair{std::move(av), as};
+        });
     double sum = 0;
     bool known = true;
     std::string shown, notes, unknown_why;

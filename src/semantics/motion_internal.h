@@ -15,6 +15,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "catalog/catalog.h"
 #include "semantics/motion.h"
@@ -67,6 +69,40 @@ struct Evaluated {
 // An argument the expressions take as 0 when it is not given (a length, a
 // stroke or a shift that the manual gives no default).
 bool zero_when_absent(const ArgSpec& a);
+
+// What evaluate_expr gives without text (describe false) for `terms`:
+// `fetch(k)` gives the value of term k's argument and the spec's argument of
+// that name (nullptr: none); an argument not given skips the step when it
+// is undocumented or the step `conditional`, counts as 0 when
+// zero_when_absent, and leaves the sum unknown otherwise.
+template <class Fetch>
+Evaluated sum_values(const std::vector<ExprTerm>& terms, bool conditional, const Fetch& fetch) {
+    Evaluated out;
+    double sum = 0;
+    bool known = true;
+    for (size_t k = 0; k < terms.size(); ++k) {
+        const ExprTerm& t = terms[k];
+        double v = t.number;
+        if (!t.name.empty()) {
+            const auto [av, as] = fetch(k);
+            if (av.state == ArgValue::State::Absent) {
+                if ((as && as->undocumented) || conditional) {
+                    out.skip = true;
+                    return out;
+                }
+                if (as && zero_when_absent(*as)) v = 0;
+                else known = false;
+            } else if (av.state == ArgValue::State::Unknown) {
+                known = false;
+            } else {
+                v = av.value;
+            }
+        }
+        sum += t.sign * v;
+    }
+    if (known) out.value = Val<double>::of(sum);
+    return out;
+}
 
 // Refers to a callable the caller keeps alive (a named lambda), not a copy.
 using Lookup = FunctionRef<ArgValue(const std::string&)>;

@@ -75,32 +75,10 @@ struct MacroRun {
         if (!read || !*read) return evaluate_expr(by ? step.by : step.target, &spec, lookup, conditional, describe);
         const std::vector<ExprTerm>* terms = &**read;
         const std::vector<int>& args = by ? sides->by_args : sides->target_args;
-        Evaluated out;
-        double sum = 0;
-        bool known = true;
-        for (size_t k = 0; k < terms->size(); ++k) {
-            const ExprTerm& t = (*terms)[k];
-            double v = t.number;
-            if (!t.name.empty()) {
-                const ArgSpec* as = args[k] >= 0 ? &spec.args[static_cast<size_t>(args[k])] : nullptr;
-                const ArgValue av = arg_of(as, t.name);
-                if (av.state == ArgValue::State::Absent) {
-                    if ((as && as->undocumented) || conditional) {
-                        out.skip = true;
-                        return out;
-                    }
-                    if (as && zero_when_absent(*as)) v = 0;
-                    else known = false;
-                } else if (av.state == ArgValue::State::Unknown) {
-                    known = false;
-                } else {
-                    v = av.value;
-                }
-            }
-            sum += t.sign * v;
-        }
-        if (known) out.value = Val<double>::of(sum);
-        return out;
+        return sum_values(*terms, conditional, [&](size_t k) {
+            const ArgSpec* as = args[k] >= 0 ? &spec.args[static_cast<size_t>(args[k])] : nullptr;
+            return std::pair{arg_of(as, (*terms)[k].name), as};
+        });
     }
     // Whether a step that has neither `target` nor `by` goes to the + travel limit.
     bool to_limit(const ActionStep& step) const {
