@@ -328,16 +328,21 @@ bool FastLineParser::Impl::plain_call_args(uint32_t p) const {
 
 // The path parse_line takes through such a line (its first item is the
 // keyword, call_statement reads the name), with nothing emitted.
-bool FastLineParser::Impl::plain_call_line() const {
-    if (n == 0 || !is_letter(s[0])) return false;
+uint32_t FastLineParser::Impl::call_head() const {
+    if (n == 0 || !is_letter(s[0])) return 0;
     const uint32_t e = alnum_end(0);
     Name name;
-    if (!read_name(0, e, name)) return false;
+    if (!read_name(0, e, name)) return 0;
     const Keyword kw = control_keyword(name.text, name.len);
-    if (kw != Keyword::Call && kw != Keyword::Modin) return false;
+    if (kw != Keyword::Call && kw != Keyword::Modin) return 0;
     const uint32_t q = skip_blanks(e);
-    if (q + 1 >= n || (s[q] != 'O' && s[q] != 'o') || !is_alnum(s[q + 1])) return false;
-    return plain_call_args(alnum_end(q + 1));
+    if (q + 1 >= n || (s[q] != 'O' && s[q] != 'o') || !is_alnum(s[q + 1])) return 0;
+    return alnum_end(q + 1);
+}
+
+bool FastLineParser::Impl::plain_call_line() const {
+    const uint32_t head = call_head();
+    return head != 0 && plain_call_args(head);
 }
 
 uint32_t FastLineParser::Impl::plain_arg_word(uint32_t p, const PlainArg& a) {
@@ -765,6 +770,11 @@ bool FastLineParser::parse_outline(const LineRef& line, Block& out) {
 bool FastLineParser::plain_call(const LineRef& line) {
     impl_->start(line);
     return impl_->plain_call_line();
+}
+
+uint32_t FastLineParser::call_head_end(const LineRef& line) {
+    impl_->start(line);
+    return impl_->call_head();
 }
 
 bool FastLineParser::parse(const LineRef& line, Block& out) {

@@ -58,6 +58,10 @@ public:
     // name, block delete or comment): parse_outline would make of it its
     // statement only, which the outline takes nothing from.
     bool plain_call(const LineRef& line);
+    // Where the macro's name ends when `line` starts with `CALL` or `MODIN`
+    // and `O` and a name, as parse reads them (no sequence name, no block
+    // delete before them); 0 for any other line.
+    uint32_t call_head_end(const LineRef& line);
 
     // As parse, but a plain move of the simplest shape (last_plain) is filled
     // in part: its sequence name and, of each word, the address, the range and

@@ -141,6 +141,8 @@ struct FastLineParser::Impl {
     bool plain_call_args(uint32_t p) const;
     // Whether the line is `CALL`/`MODIN`, `O` and a name, then such arguments only.
     bool plain_call_line() const;
+    // Where `CALL`/`MODIN` and `O` and a name end at the line's start; 0 when they do not.
+    uint32_t call_head() const;
     // The word of a plain argument, as assignment() makes it.
     uint32_t plain_arg_word(uint32_t p, const PlainArg& a);
     bool read_name(uint32_t p, uint32_t e, Name& out) const {

@@ -112,6 +112,37 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
     return out;
 }
 
+// Whether [p, e), inside one line and not at its start, holds a byte
+// next_candidate would take: next_candidate without the line ends and the N
+// at a line's start, for the arguments of a call line.
+bool candidate_inside_line(const char* p, const char* e) {
+    unsigned after_i = 0;
+#if defined(__SSE2__)
+    const __m128i fold = _mm_set1_epi8(0x20);
+    const __m128i o = _mm_set1_epi8('o'), le = _mm_set1_epi8('e'), t = _mm_set1_epi8('t'), w = _mm_set1_epi8('w');
+    const __m128i n = _mm_set1_epi8('n'), i = _mm_set1_epi8('i'), f = _mm_set1_epi8('f');
+    for (; e - p >= 16; p += 16) {
+        const __m128i l = _mm_or_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), fold);
+        const __m128i any = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(l, o), _mm_cmpeq_epi8(l, le)),
+                                         _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(l, t), _mm_cmpeq_epi8(l, w)),
+                                                      _mm_cmpeq_epi8(l, n)));
+        const unsigned im = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, i)));
+        if (_mm_movemask_epi8(any)) return true;
+        if (im | after_i) {
+            const unsigned fm = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, f)));
+            if (fm & ((im << 1) | after_i)) return true;
+        }
+        after_i = (im >> 15) & 1u;
+    }
+#endif
+    for (; p < e; ++p) {
+        const char l = static_cast<char>(*p | 0x20);
+        if (l == 'o' || l == 'e' || l == 't' || l == 'w' || l == 'n' || (l == 'f' && after_i)) return true;
+        after_i = l == 'i' ? 1u : 0u;
+    }
+    return false;
+}
+
 bool is_flow(StmtKind k) {
     return k == StmtKind::Goto || k == StmtKind::If || k == StmtKind::While || k == StmtKind::Do ||
            k == StmtKind::End;
@@ -227,7 +258,7 @@ private:
         const size_t term = (*brk == '\r' && brk + 1 < buf_.data() + end_ && brk[1] == '\n') ? 2 : 1;
         const LineRef line{std::string_view(p, text), std::string_view(brk, term), line_,
                            static_cast<uint32_t>(base_ + pos_)};
-        if (!parser_.plain_call(line)) return false;
+        if (!outline_passes_over(parser_, line)) return false;
         pos_ += text + term;
         ++line_;
         return true;
@@ -322,6 +353,14 @@ private:
 
 bool may_hold_outline_item(const char* p, const char* e, bool line_start) {
     return next_candidate(p, e, line_start).candidate != nullptr;
+}
+
+bool outline_passes_over(FastLineParser& parser, const LineRef& line) {
+    const uint32_t head = parser.call_head_end(line);
+    if (head == 0) return false;
+    const char* rest = line.text.data() + head;
+    if (!candidate_inside_line(rest, line.text.data() + line.text.size())) return true;
+    return parser.plain_call(line);
 }
 
 FileOutline outline_file(ByteSource& src, const OutlineOptions& options) {

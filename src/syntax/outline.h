@@ -11,6 +11,8 @@
 // a directive `osplint:` an O. `outline_file` reads the input in chunks,
 // looks for those bytes sixteen at a time, and parses only the lines that hold
 // one, with the same front end as the analysis (so nothing is decided twice).
+// A CALL or MODIN line (its macro's name holds an O) is passed over unparsed
+// when its arguments hold none of those bytes (outline_passes_over).
 // The lines before the file's first block with content are parsed one by one
 // (they decide the first program's name), and so are the lines that follow a
 // directive on a comment-only line, up to the block it applies to.
@@ -28,6 +30,8 @@
 #include "syntax/model.h"
 
 namespace osplint {
+
+class FastLineParser;
 
 // A statement that changes the control flow: GOTO, IF, WHILE, DO or END.
 struct FlowStatement {
@@ -100,5 +104,12 @@ FileOutline outline_file(ByteSource& src, const OutlineOptions& options = {});
 // Whether the bytes [p, e) hold one of the bytes an outlined line must hold
 // (see above). `line_start` says p starts a line. Exposed for tests.
 bool may_hold_outline_item(const char* p, const char* e, bool line_start);
+
+// Whether the outline passes over `line` without parsing it: a CALL or
+// MODIN alone on its line (no sequence name, no block delete before it)
+// whose arguments either hold none of the bytes an outlined item must hold
+// or are all `Pname=number` (FastLineParser::plain_call). The outline would
+// take nothing from its block. Exposed for tests.
+bool outline_passes_over(FastLineParser& parser, const LineRef& line);
 
 }  // namespace osplint

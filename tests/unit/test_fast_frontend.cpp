@@ -22,7 +22,9 @@
 #include "programs.h"
 #include "semantics/transfer.h"
 #include "syntax/frontend.h"
+#include "syntax/directive.h"
 #include "syntax/frontend_fast.h"
+#include "syntax/outline.h"
 
 using namespace osplint;
 using namespace osplint::testing;
@@ -248,15 +250,23 @@ std::string compare_outline(const std::string& name, const std::string& text) {
         if (outline_view(a) != outline_view(b) && report.size() < 4000)
             report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) + "'\n  parse:   " +
                       outline_view(a) + "\n  outline: " + outline_view(b) + "\n";
-        // A line the outline passes over unparsed (plain_call) must be a CALL
-        // or MODIN statement and nothing else the outline reads.
-        if (outline.plain_call(line)) {
-            const bool only_call = a.kind == LineKind::Block && a.errors.empty() && !a.block_delete &&
-                                   !a.program_name && !a.sequence && a.comments.empty() &&
-                                   a.statements.size() == 1 &&
-                                   (a.statements[0].kind == StmtKind::Call || a.statements[0].kind == StmtKind::Modin) &&
+        // A line the outline passes over unparsed (outline_passes_over) must
+        // be a CALL or MODIN statement and nothing else the outline reads:
+        // no program name, sequence name, block delete, jump, loop, RTS, N
+        // word or directive. A plain call (plain_call) is that statement alone.
+        const bool plain = outline.plain_call(line);
+        if (plain || outline_passes_over(outline, line)) {
+            const bool call_first = !a.statements.empty() && (a.statements[0].kind == StmtKind::Call ||
+                                                              a.statements[0].kind == StmtKind::Modin);
+            bool takes = false;
+            for (const auto& st : a.statements)
+                takes = takes || st.kind == StmtKind::Rts || st.kind == StmtKind::Goto || st.kind == StmtKind::If ||
+                        st.kind == StmtKind::While || st.kind == StmtKind::Do || st.kind == StmtKind::End;
+            const bool only_call = a.kind == LineKind::Block && !a.block_delete && !a.program_name && !a.sequence &&
+                                   call_first && !takes && !has_directive(a, line.text) &&
                                    std::none_of(a.words.begin(), a.words.end(),
-                                                [](const Word& w) { return w.address == "N"; });
+                                                [](const Word& w) { return w.address == "N"; }) &&
+                                   (!plain || (a.errors.empty() && a.comments.empty() && a.statements.size() == 1));
             if (!only_call && report.size() < 4000)
                 report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) +
                           "' passed over, but parse: " + outline_view(a) + "\n";
@@ -322,6 +332,24 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
     CHECK_FALSE(plain_call("CALL 100 PX=1"));           // no program name
     CHECK_FALSE(plain_call("MODOUT"));
     CHECK_FALSE(plain_call("GOTO N10"));
+    // The outline passes over a call line whose arguments hold no byte an
+    // outlined item must hold (o, e, t, w, n, f after i), whatever they are.
+    auto passes = [&](const std::string& text) { return outline_passes_over(p, LineRef{text, "\n", 1, 0}); };
+    CHECK(passes("CALL OZAGR PX=12.5 PY=-3 PZ = +.5 PFA=1000"));
+    CHECK(passes("CALL O100 PX=VC1+[2*VC2] PY=1.2.3"));       // expressions, even errors
+    CHECK(passes("CALL O100 PX=1 (ABC)"));                    // a comment that cannot be a directive
+    CHECK(passes("CALL O100 PE=1 PT=2"));                     // plain arguments, candidates or not
+    CHECK_FALSE(passes("CALL O100 PX=1 (OSPLINT: DISABLE=OSP101)"));
+    CHECK_FALSE(passes("CALL O100 PX=VC1 N10"));              // an N word
+    CHECK_FALSE(passes("CALL O100 PX=SIN[VC1]"));             // a function (an n)
+    CHECK_FALSE(passes("CALL O100 PX=VC1 GOTO N1"));
+    CHECK_FALSE(passes("CALL O100 PX=VC1 IF"));
+    CHECK_FALSE(passes("CALL O100 PX=VC1 RTS"));
+    CHECK_FALSE(passes("CALL O100 PX=VC1 PY=VC2 IF"));       // I and F across 16 bytes of the arguments
+    CHECK(passes("CALL O100 PX=VC1 PY=VC2 IXF"));
+    CHECK_FALSE(passes("N10 CALL O100 PX=1"));
+    CHECK_FALSE(passes("/CALL O100 PX=1"));
+    CHECK_FALSE(passes("G0 X1"));
     // The numbers it passes over: what the parser reads as a number word.
     CHECK(plain_call("CALL O100 PX=5. PY=-.5 PZ=+0"));
     CHECK(plain_call("CALL O100 PX=123456789012345"));     // 15 digits
