@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "catalog/catalog.h"
 #include "semantics/modal.h"
 #include "syntax/model.h"
 
@@ -61,8 +62,25 @@ struct MacroCall {
         return nullptr;
     }
     // The argument given for `a` (an argument of any spec): by its name, else
-    // by its aliases in order; nullptr when not given.
-    const MacroArg* given(const ArgSpec& a) const;
+    // by its aliases in order; nullptr when not given. Inline: it runs for
+    // every argument of the spec, on every call, in several rules.
+    const MacroArg* given(const ArgSpec& a) const {
+        if (spec && !given_index.empty() && given_index.size() == spec->args.size()) {
+            // Names and aliases are distinct within a spec, so each argument links
+            // to one ArgSpec at most; one given twice (by its name and an alias)
+            // takes the order of the names.
+            const auto at = reinterpret_cast<std::uintptr_t>(&a);
+            const auto first = reinterpret_cast<std::uintptr_t>(spec->args.data());
+            if (at >= first && at < first + given_index.size() * sizeof(ArgSpec)) {
+                const uint16_t slot = given_index[(at - first) / sizeof(ArgSpec)];
+                if (slot != kGivenTwice) return slot ? &args[slot - 1] : nullptr;
+            }
+        }
+        return given_by_name(a);
+    }
+    // As given, by comparing the names: an argument of another spec, a call
+    // not linked, or one giving the argument twice.
+    const MacroArg* given_by_name(const ArgSpec& a) const;
     // Back to a call of nothing, keeping the storage for the next one (the
     // walk reuses one call for every block): a member added above must be
     // reset there too.

@@ -63,9 +63,10 @@ void statement_call(const Block& b, const Statement& st, const Catalog& catalog,
     call.spec = catalog.find(st.name);
     call.args.reserve(b.words.size());
     for (const auto& w : b.words) {
-        if (w.address == "M") {
+        const char one = w.address.size() == 1 ? w.address[0] : '\0';  // an address of one letter
+        if (one == 'M') {
             call.m_codes.push_back(&w);
-        } else if (w.address == "Q" && !call.repeat) {
+        } else if (one == 'Q' && !call.repeat) {
             call.repeat = &w;
         } else if (w.range.begin > st.keyword_range.begin) {
             auto& a = call.args.emplace_back();  // built in place: no temporary to move
@@ -187,30 +188,11 @@ void link_arg_specs(MacroCall& call, ArgLinks* last) {
     last->given_index = call.given_index;
 }
 
-namespace {
-
-// MacroCall::given by comparing the names, for an argument of another spec, a
-// call not linked, or one giving the argument twice. Kept out of given(), so
-// that the linked case, met for every argument of every call, stays small.
-[[gnu::noinline]] const MacroArg* given_by_name(const MacroCall& call, const ArgSpec& a) {
-    if (const MacroArg* m = call.arg(a.name)) return m;
+const MacroArg* MacroCall::given_by_name(const ArgSpec& a) const {
+    if (const MacroArg* m = arg(a.name)) return m;
     for (const auto& alias : a.aliases)
-        if (const MacroArg* m = call.arg(alias)) return m;
+        if (const MacroArg* m = arg(alias)) return m;
     return nullptr;
-}
-
-}  // namespace
-
-const MacroArg* MacroCall::given(const ArgSpec& a) const {
-    if (spec && !given_index.empty() && given_index.size() == spec->args.size() && &a >= spec->args.data() &&
-        &a < spec->args.data() + spec->args.size()) {
-        // Names and aliases are distinct within a spec, so each argument links
-        // to one ArgSpec at most; one given twice (by its name and an alias)
-        // takes the order of the names.
-        const uint16_t slot = given_index[static_cast<size_t>(&a - spec->args.data())];
-        if (slot != kGivenTwice) return slot ? &args[slot - 1] : nullptr;
-    }
-    return given_by_name(*this, a);
 }
 
 void MacroCall::clear() {
