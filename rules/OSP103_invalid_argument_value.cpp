@@ -43,6 +43,7 @@ template <class Lookup>
 void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup, std::optional<Plane> plane,
                   ByteRange fallback) {
     for (const auto& a : spec.args) {
+        if (a.allowed.empty() && a.sign == ArgSign::Any) continue;  // nothing to check
         Known k = lookup(a);
         if (!k.value || k.range.empty()) continue;
         double v = *k.value;

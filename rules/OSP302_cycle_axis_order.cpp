@@ -22,7 +22,6 @@ constexpr RuleMeta kMeta{
 struct Value {
     bool known = false;
     double value = 0;
-    std::string how;        // "default 5", "current position 50"
     bool current = false;   // taken from the current cycle-axis position
     ByteRange range;        // the word on the line, when written there
 };
@@ -36,8 +35,10 @@ struct Side {
     ByteRange range;
 };
 
-// The side's value with the text of a finding. `lookup(name, arg)` gives a
-// Value; `args` holds each term's argument (RelationSides).
+// The side's value with the text of a finding. `lookup(name, arg, how)` gives
+// a Value, and says in `how` (when not null) where a value not written on the
+// line comes from ("not given: default 5"); `args` holds each term's argument
+// (RelationSides).
 template <class Lookup>
 Side evaluate_side(const std::optional<std::vector<ExprTerm>>& terms, const std::vector<int>& args,
                    const Lookup& lookup) {
@@ -49,10 +50,11 @@ Side evaluate_side(const std::optional<std::vector<ExprTerm>>& terms, const std:
         const ExprTerm& t = (*terms)[i];
         double v = t.number;
         if (!t.name.empty()) {
-            Value x = lookup(t.name, args[i]);
+            std::string how;
+            Value x = lookup(t.name, args[i], &how);
             if (!x.known) return s;
             v = x.value;
-            if (!x.how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + x.how;
+            if (!how.empty()) s.notes += (s.notes.empty() ? "" : "; ") + t.name + " " + how;
             s.current = s.current || x.current;
             if (s.range.empty() && !x.range.empty()) s.range = x.range;
         }
@@ -83,7 +85,7 @@ SideValue side_value(const std::optional<std::vector<ExprTerm>>& terms, const st
         const ExprTerm& t = (*terms)[i];
         double v = t.number;
         if (!t.name.empty()) {
-            Value x = lookup(t.name, args[i]);
+            Value x = lookup(t.name, args[i], nullptr);
             if (!x.known) return s;
             v = x.value;
             s.current = s.current || x.current;
@@ -137,9 +139,9 @@ public:
         if (v.before.plane.known) plane = v.before.plane.value;
         const char axis = plane ? plane_axes(*plane).cycle : 0;
 
-        bool describe = false;  // the `how` of each value: only for a finding
-        // `arg`: the argument `name` is (its index in the spec's args, -1: none).
-        const auto lookup = [&](const std::string& name, int arg) -> Value {
+        // `arg`: the argument `name` is (its index in the spec's args, -1: none);
+        // `how`, only for a finding: where a value not on the line comes from.
+        const auto lookup = [&](const std::string& name, int arg, std::string* how) -> Value {
             Value out;
             const ArgSpec* a = arg >= 0 ? &spec->args[static_cast<size_t>(arg)] : nullptr;
             if (const MacroArg* m = a ? macro::given(*c, *a) : c->arg(name)) {
@@ -153,7 +155,7 @@ public:
             if (a->default_value) {
                 out.known = true;
                 out.value = *a->default_value;
-                if (describe) out.how = "not given: default " + motion_number(*a->default_value);
+                if (how) *how = "not given: default " + motion_number(*a->default_value);
             } else if (a->omitted == ArgOmitted::Current && a->role == ArgRole::Cycle && axis) {
                 // Only meaningful where the macro runs (a CALL line, a MODIN positioning block).
                 if (c->kind == CallKind::Modin) return out;
@@ -162,13 +164,12 @@ public:
                 out.known = true;
                 out.value = cur.value;
                 out.current = true;
-                if (describe)
-                    out.how = "not given: the current " + std::string(1, axis) + " position " + motion_number(cur.value);
+                if (how) *how = "not given: the current " + std::string(1, axis) + " position " + motion_number(cur.value);
             } else if (a->omitted == ArgOmitted::None &&
                        (a->role == ArgRole::Length || a->role == ArgRole::Stroke || a->role == ArgRole::Shift)) {
                 out.known = true;
                 out.value = 0;
-                if (describe) out.how = "not given: 0";
+                if (how) *how = "not given: 0";
             }
             return out;
         };
@@ -201,10 +202,8 @@ public:
                 if (reported_.count({c->modin_line, i})) continue;
             }
             if (relation_holds(lv.value, r.op, rv.value)) continue;
-            describe = true;
             const Side l = evaluate_side(sides.left, sides.left_args, lookup);
             const Side rt = evaluate_side(sides.right, sides.right_args, lookup);
-            describe = false;
             report(ctx, v, *spec, r, l, rt, plane, axis);
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
         }
