@@ -347,6 +347,20 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
     CHECK_FALSE(passes("CALL O100 PX=VC1 RTS"));
     CHECK_FALSE(passes("CALL O100 PX=VC1 PY=VC2 IF"));       // I and F across 16 bytes of the arguments
     CHECK(passes("CALL O100 PX=VC1 PY=VC2 IXF"));
+    // The look at the arguments takes the bytes the outline's scan takes
+    // (may_hold_outline_item), on random arguments of every length.
+    std::mt19937 rng(20261205);
+    const std::string alphabet = "PXYZQRSTUVWOEINFD=.-+ 0123456789[]()*";
+    for (int i = 0; i < 20000; ++i) {
+        std::string args(rng() % 48, ' ');
+        for (char& c : args) c = alphabet[rng() % alphabet.size()];
+        const std::string text = "CALL OZAGR" + args;
+        const bool plain_args = p.plain_call(LineRef{text, "\n", 1, 0});
+        const uint32_t head = p.call_head_end(LineRef{text, "\n", 1, 0});  // the name may run on into the arguments
+        REQUIRE(head >= 10);
+        const bool quiet = !may_hold_outline_item(text.data() + head, text.data() + text.size(), false);
+        REQUIRE_MESSAGE(passes(text) == (quiet || plain_args), text);
+    }
     CHECK_FALSE(passes("N10 CALL O100 PX=1"));
     CHECK_FALSE(passes("/CALL O100 PX=1"));
     CHECK_FALSE(passes("G0 X1"));
