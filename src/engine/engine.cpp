@@ -822,6 +822,9 @@ uint32_t Walk::quiet_run(uint32_t max_lines, uint64_t start_limit) {
 }
 
 void Walk::index_plain_rules() {
+    call_rules_.clear();
+    for (auto& r : rules_)
+        if (r->sees_plain_calls()) call_rules_.push_back(r.get());
     plain_rules_.clear();
     plain_named_.clear();
     plain_digits_.clear();
@@ -862,6 +865,8 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
         for (size_t i = 0; i < plain_rules_.size(); ++i)
             if (join || plain_rules_[i]->wants_plain_moves() || (named && plain_named_[i]))
                 plain_rules_[i]->check_block(*this, view);
+    } else if (is_plain_call(view)) {
+        for (Rule* r : call_rules_) r->check_block(*this, view);
     } else {
         for (auto& r : rules_) r->check_block(*this, view);
     }

@@ -196,6 +196,15 @@ public:
     // The default is what the metadata declares (RuleMeta::blocks); a rule
     // overrides it only when the answer depends on the configuration.
     virtual bool sees_plain_moves(const Config&) const { return meta().blocks != RuleBlocks::Statements; }
+    // Whether check_block may do anything (report, or remember something) on
+    // a plain call line (semantics/transfer.h, is_plain_call: a CALL or MODIN
+    // of a catalog macro with `Pname=value` arguments only, while no fixed
+    // cycle is modal). A posted program may be made of such lines, and most
+    // rules are about something else (jumps, names, M and G codes, fixed
+    // cycles): rules that return false are not called for them. As for plain
+    // moves, the differential tests hold the engine to a walk that shows
+    // every rule every block.
+    virtual bool sees_plain_calls() const { return true; }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
     // another block (OSP004 once it knows where the program's content starts).

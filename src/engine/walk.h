@@ -327,7 +327,7 @@ private:
     uint32_t quiet_run(uint32_t max_lines, uint64_t start_limit);
     uint32_t quiet_wait_ = 0, quiet_backoff_ = 0;
     bool run_over_ = false;  // the last skim_run stopped before a move past its digits
-    // plain_rules_, plain_named_, plain_digits_ and named_values_ from rules_.
+    // plain_rules_, plain_named_, plain_digits_, named_values_ and call_rules_ from rules_.
     void index_plain_rules();
     // Whether skim_run may read past lines: not for the language server's
     // checkpoints (taken at blocks: mark_loop) or an analysis that may end early.
@@ -401,6 +401,7 @@ private:
     FileOutline outline_;
     std::vector<std::unique_ptr<Rule>> rules_;
     std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
+    std::vector<Rule*> call_rules_;   // the rules that look at plain calls (Rule::sees_plain_calls)
     std::vector<char> plain_named_;   // of each, whether it is RuleBlocks::Named
     bool named_values_ = true;        // every RuleBlocks::Named rule takes plain values
     // Of each of them, its quiet_below as digits before the point (nullopt: none).

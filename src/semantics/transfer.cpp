@@ -770,6 +770,20 @@ bool is_plain_move_block(const Block& b) {
     return true;
 }
 
+bool is_plain_call(const BlockView& v) {
+    const MacroCall* c = v.call;
+    if (!v.reachable || !c || (c->kind != CallKind::Call && c->kind != CallKind::Modin) || !c->spec ||
+        c->spec->kind != SpecKind::Macro || c->summary)
+        return false;
+    const Block& b = v.block;
+    if (b.kind != LineKind::Block || b.program_name || b.block_delete || b.sequence || b.statements.size() != 1 ||
+        !b.assignments.empty() || !b.comments.empty() || !b.errors.empty())
+        return false;
+    for (const auto& w : b.words)
+        if (w.address.size() < 2 || w.address[0] != 'P') return false;
+    return no_cycle(v.before) && no_cycle(v.after);
+}
+
 bool plain_moves_possible(const Catalog& catalog) {
     for (const char* code : {"G0", "G1", "G2", "G3"})
         if (catalog.find_by_code(code)) return false;

@@ -53,6 +53,15 @@ inline bool plain_move_state(const ModalState& s) {
     return s.cycle.known && !s.cycle.value && s.modin.known && !s.modin.value;
 }
 bool plain_moves_possible(const Catalog& catalog);
+
+// Plain calls: a block that is only `CALL` or `MODIN` of a catalog macro
+// (not a user subprogram) with arguments `Pname=value` (an address of two
+// letters or more that starts with P: no M, Q, G or N word), with no
+// sequence name, program name, block delete, comment, assignment or syntax
+// error, reached by a path, while no fixed cycle is known to be modal before
+// or after it. The walk hands such a block only to the rules that look at
+// one (Rule::sees_plain_calls).
+bool is_plain_call(const BlockView& v);
 // apply_block(block, nullptr, catalog, state) for a plain move in a plain-move state.
 void apply_plain_move(const Block& block, ModalState& state);
 // The same for the words of such a block read without it (FastLineParser::plain_move) on line `line`.
