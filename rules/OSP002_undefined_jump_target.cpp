@@ -21,6 +21,7 @@ constexpr RuleMeta kMeta{
 class UndefinedJumpTarget final : public RuleBase<UndefinedJumpTarget> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line holds no jump and no N word
     void begin_program(RuleContext&, const ProgramView&) override { refs_.clear(); }
     void check_block(RuleContext&, const BlockView& v) override {
         for (const auto& st : v.block.statements) {

@@ -37,6 +37,7 @@ constexpr size_t kMaxDigits = 8;
 class DuplicateSequenceName final : public RuleBase<DuplicateSequenceName> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no sequence name
     void begin_program(RuleContext&, const ProgramView&) override {
         first_.clear();
         for (auto& b : seen_) b.clear();

@@ -15,6 +15,7 @@ constexpr RuleMeta kMeta{
 class UnknownSubprogram final : public RuleBase<UnknownSubprogram> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line calls a macro of the catalog
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (!c || (c->kind != CallKind::Call && c->kind != CallKind::Modin)) return;

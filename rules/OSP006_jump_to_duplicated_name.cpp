@@ -29,6 +29,7 @@ constexpr size_t kNotedDefinitions = 8;
 class JumpToDuplicatedName final : public RuleBase<JumpToDuplicatedName> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no sequence name and no jump
     void begin_program(RuleContext&, const ProgramView&) override {
         defs_.clear();
         jumps_.clear();

@@ -35,6 +35,7 @@ std::string cancel_hint(const RuleContext& ctx, const ActiveCycle& c) {
 class FixedCycleNotCancelled final : public RuleBase<FixedCycleNotCancelled> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line neither ends the program nor runs under a fixed cycle
 
     void begin_program(RuleContext&, const ProgramView&) override { end_block_.reset(); }
 

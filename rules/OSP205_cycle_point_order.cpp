@@ -27,6 +27,7 @@ bool reversed_cycle(int code) { return code == 79 || code == 87; }
 class CyclePointOrder final : public RuleBase<CyclePointOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
 
     void begin_program(RuleContext&, const ProgramView&) override {
         last_.reset();

@@ -32,6 +32,7 @@ const Word* g_word(const Block& b, double code) {
 class TappingWithG99 final : public RuleBase<TappingWithG99> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || !v.after.cycle_return.is(CycleReturn::R) || !tapper_cycle(ctx, *c)) return;

@@ -18,6 +18,7 @@ constexpr RuleMeta kMeta{
 class CodeNotAlone final : public RuleBase<CodeNotAlone> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         for (const auto& w : b.words) {

@@ -19,6 +19,7 @@ constexpr RuleMeta kMeta{
 class G114CancelledByG80 final : public RuleBase<G114CancelledByG80> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.before);
         if (!c || c->macro.empty()) return;

@@ -17,6 +17,7 @@ constexpr RuleMeta kMeta{
 class RepeatCountInG90 final : public RuleBase<RepeatCountInG90> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || !c->macro.empty() || v.block.has_code("G", 80)) return;

@@ -16,6 +16,7 @@ constexpr RuleMeta kMeta{
 class G82WithoutDwell final : public RuleBase<G82WithoutDwell> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 82 || !c->macro.empty()) return;

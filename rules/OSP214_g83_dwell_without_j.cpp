@@ -15,6 +15,7 @@ constexpr RuleMeta kMeta{
 class G83DwellWithoutJ final : public RuleBase<G83DwellWithoutJ> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 83 || !c->macro.empty() || v.block.has_code("G", 80)) return;

@@ -15,6 +15,7 @@ constexpr RuleMeta kMeta{
 class G100OutsideCycle final : public RuleBase<G100OutsideCycle> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no G word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Word* g100 = nullptr;
         for (const auto& w : v.block.words)

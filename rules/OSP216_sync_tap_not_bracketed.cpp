@@ -18,6 +18,7 @@ constexpr RuleMeta kMeta{
 class SyncTapNotBracketed final : public RuleBase<SyncTapNotBracketed> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
 
     void begin_program(RuleContext&, const ProgramView&) override { last_m843_.reset(); }
 

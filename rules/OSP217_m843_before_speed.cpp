@@ -15,6 +15,7 @@ constexpr RuleMeta kMeta{
 class M843BeforeSpeed final : public RuleBase<M843BeforeSpeed> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (!v.after.speed_commanded.is(false)) return;  // an S on the same block counts
         for (const auto& w : v.block.words) {

@@ -20,6 +20,7 @@ bool is_plane_axis_name(std::string_view n) { return n == "X" || n == "Y" || n =
 class CycleMissingAddress final : public RuleBase<CycleMissingAddress> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         // Only a cycle started afresh: after G80 (or at the program start) no

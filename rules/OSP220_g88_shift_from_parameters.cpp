@@ -17,6 +17,7 @@ constexpr RuleMeta kMeta{
 class G88ShiftFromParameters final : public RuleBase<G88ShiftFromParameters> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 88 || !c->macro.empty()) return;
