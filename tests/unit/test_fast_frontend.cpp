@@ -474,10 +474,14 @@ std::string compare_plain_move(const std::string& name, const std::string& text,
 TEST_CASE("fast front end: plain_move reads the lines parse_moves keeps in part, the same words") {
     size_t read = 0, named = 0;
     on_test_programs(20261202, [&](const std::string& name, const std::string& text) {
-        return compare_plain_move(name, text, name.rfind("mut", 0) == 0 ? nullptr : &read, &named);
+        // Counted on the corpus and the generated programs only: which files
+        // are mutated changes with every file added to the corpus.
+        const bool mutated = name.rfind("mut", 0) == 0;
+        return compare_plain_move(name, text, mutated ? nullptr : &read, mutated ? nullptr : &named);
     });
+    MESSAGE(read << " plain moves read, " << named << " with a sequence name");
     CHECK(read > 500);
-    CHECK(named > 40);  // 51 today
+    CHECK(named > 20);
 
     FastLineParser p;
     PlainMove m;
