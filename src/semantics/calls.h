@@ -92,6 +92,12 @@ struct MacroCall {
 // in the same order) thousands of times: the next such call takes the links
 // without looking its names up. Valid while the catalog is (one per walk).
 struct ArgLinks {
+    // The catalog's macro of the last name a CALL or MODIN named.
+    struct Found {
+        const Catalog* catalog = nullptr;
+        std::string name;
+        const MacroSpec* spec = nullptr;
+    } found;
     const MacroSpec* spec = nullptr;
     std::vector<std::string> names;
     std::vector<const ArgSpec*> specs;

@@ -56,11 +56,22 @@ bool non_motion_axes(const std::vector<int>& g) {
 }
 
 // A CALL or MODIN statement: the words after the keyword are its arguments.
-void statement_call(const Block& b, const Statement& st, const Catalog& catalog, MacroCall& call) {
+void statement_call(const Block& b, const Statement& st, const Catalog& catalog, ArgLinks* links, MacroCall& call) {
     call.kind = st.kind == StmtKind::Call ? CallKind::Call : CallKind::Modin;
     call.name = st.name;
     call.name_range = st.name_range;
-    call.spec = catalog.find(st.name);
+    if (!links) {
+        call.spec = catalog.find(st.name);
+    } else {
+        // A posted program calls the same macro line after line.
+        ArgLinks::Found& f = links->found;
+        if (f.catalog != &catalog || !same_name(f.name, st.name)) {
+            f.catalog = &catalog;
+            f.name = st.name;
+            f.spec = catalog.find(st.name);
+        }
+        call.spec = f.spec;
+    }
     call.args.reserve(b.words.size());
     for (const auto& w : b.words) {
         const char one = w.address.size() == 1 ? w.address[0] : '\0';  // an address of one letter
@@ -215,7 +226,7 @@ bool resolve_call(const Block& b, const ModalState& before, const Catalog& catal
     if (b.kind != LineKind::Block) return false;
     const Statement* st = b.statement(StmtKind::Call);
     if (!st) st = b.statement(StmtKind::Modin);
-    if (st) statement_call(b, *st, catalog, call);
+    if (st) statement_call(b, *st, catalog, links, call);
     else code_call(b, catalog, call);
     if (call.kind == CallKind::None) return modin_positioning_call(b, before, catalog, links, call);
     link_arg_specs(call, links);
