@@ -21,7 +21,8 @@ public:
         if (!spec || spec->m53 != M53Mode::ReturnToPT) return;
         if (c->kind != CallKind::Call && c->kind != CallKind::Modin && c->kind != CallKind::ModinPositioning) return;
         const ArgSpec* pt = spec->arg("PT");
-        if ((pt && macro::given(*c, *pt)) || c->arg("PT")) return;
+        // An argument the spec has is found by given(), by its name as written too.
+        if (pt ? macro::given(*c, *pt) != nullptr : c->arg("PT") != nullptr) return;
         const Word* m53 = macro::m_code(*c, 53);
         bool in_effect = m53 != nullptr;
         if (!in_effect && !macro::m_code(*c, 52) && !macro::m_code(*c, 54)) {

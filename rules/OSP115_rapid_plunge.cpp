@@ -35,9 +35,14 @@ public:
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
         if (!spec || !macro::is_invocation(*c)) return;
-        auto plunge = rapid_plunge(*spec);
-        if (!plunge) return;
-        const ArgSpec* feed = spec->arg(plunge->second);
+        if (spec != plunge_of_) {
+            plunge_of_ = spec;
+            plunge_ = rapid_plunge(*spec);
+            feed_ = plunge_ ? spec->arg(plunge_->second) : nullptr;
+        }
+        if (!plunge_) return;
+        const auto& plunge = plunge_;
+        const ArgSpec* feed = feed_;
         if (macro::given(*c, *feed)) return;
         auto& d = ctx.report(kMeta, macro::call_range(*c, v.block),
                              spec->name + " without " + feed->name + " plunges to the Z point at rapid (step " +
@@ -50,6 +55,13 @@ public:
             if (n.text.find(feed->name) != std::string::npos)
                 d.notes.push_back({n.text + " (" + macro::source_ref(*spec, n.source) + ")", std::nullopt});
     }
+    // What the last macro's steps say, read once per macro and not per call: not state.
+    bool same_as(const RapidPlunge&) const { return true; }
+
+private:
+    const MacroSpec* plunge_of_ = nullptr;
+    std::optional<std::pair<const ActionStep*, std::string>> plunge_;
+    const ArgSpec* feed_ = nullptr;
 };
 
 }  // namespace

@@ -70,8 +70,9 @@ private:
         };
         for (const Need& n : {Need{ArgRole::Feed, before.feed_commanded, "feed", "F"},
                               Need{ArgRole::Speed, before.speed_commanded, "spindle speed", "S"}}) {
+            if (!n.commanded.is(false)) continue;  // the cheapest test first
             const ArgSpec* a = current_value_arg(spec, n.role);
-            if (!a || given(*a) || !n.commanded.is(false)) continue;
+            if (!a || given(*a)) continue;
             const bool cycle = spec.kind == SpecKind::FixedCycle;
             const std::string subject =
                 cycle ? fmt::format("{} has no {} and", spec.name, a->name)

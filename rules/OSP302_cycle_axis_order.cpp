@@ -138,12 +138,17 @@ public:
         std::optional<Plane> plane;
         if (v.before.plane.known) plane = v.before.plane.value;
         const char axis = plane ? plane_axes(*plane).cycle : 0;
+        // A call the last quiet one decides (below): nothing to say.
+        const bool memo = c->kind != CallKind::ModinPositioning;
+        if (memo && quiet_.same(*spec, *c, plane)) return;
+        bool read_current = false, reported = false;  // what keeps the check out of quiet_
 
         // `arg`: the argument `name` is (its index in the spec's args, -1: none);
         // `how`, only for a finding: where a value not on the line comes from.
         const auto lookup = [&](const std::string& name, int arg, std::string* how) -> Value {
             Value out;
             const ArgSpec* a = arg >= 0 ? &spec->args[static_cast<size_t>(arg)] : nullptr;
+            if (!a) read_current = true;  // a name of no argument (none in a catalog that loads): not memoized
             if (const MacroArg* m = a ? macro::given(*c, *a) : c->arg(name)) {
                 if (!m->value.known) return out;
                 out.known = true;
@@ -164,6 +169,7 @@ public:
                 out.known = true;
                 out.value = cur.value;
                 out.current = true;
+                read_current = true;
                 if (how) *how = "not given: the current " + std::string(1, axis) + " position " + motion_number(cur.value);
             } else if (a->omitted == ArgOmitted::None &&
                        (a->role == ArgRole::Length || a->role == ArgRole::Stroke || a->role == ArgRole::Shift)) {
@@ -205,8 +211,10 @@ public:
             const Side l = evaluate_side(sides.left, sides.left_args, lookup);
             const Side rt = evaluate_side(sides.right, sides.right_args, lookup);
             report(ctx, v, *spec, r, l, rt, plane, axis);
+            reported = true;
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
         }
+        if (memo && !reported && !read_current) quiet_.remember(*spec, *c, plane);
     }
 
     bool same_as(const CycleAxisOrder& o) const { return reported_ == o.reported_; }
@@ -246,6 +254,59 @@ private:
                                std::nullopt});
     }
     std::set<std::pair<uint32_t, size_t>> reported_;
+
+    // The last call found quiet without reading the current position: what
+    // the check read of it is the macro, the kind of call, the plane, and of
+    // each argument a relation or its condition names whether it is given
+    // and its value (a relation names arguments of its own macro only: the
+    // catalog refuses others). A call that agrees on all of them is quiet
+    // too: a posted program calls a macro thousands of times, with the
+    // position changed and the cycle-axis points the same. Not state:
+    // same_as leaves it out.
+    struct Seen {
+        bool given = false, known = false;
+        double value = 0;
+        bool operator==(const Seen& o) const { return given == o.given && known == o.known && value == o.value; }
+    };
+    static Seen seen(const MacroArg* m) {
+        return m ? Seen{true, m->value.known, m->value.known ? m->value.value : 0} : Seen{};
+    }
+    struct Quiet {
+        const MacroSpec* spec = nullptr;
+        CallKind kind = CallKind::None;
+        std::optional<Plane> plane;
+        std::vector<size_t> named;  // the arguments the relations of `spec` name
+        std::vector<Seen> args;     // of each of them
+        bool same(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p) const {
+            if (spec != &s || kind != c.kind || plane != p) return false;
+            for (size_t i = 0; i < named.size(); ++i)
+                if (!(seen(macro::given(c, s.args[named[i]])) == args[i])) return false;
+            return true;
+        }
+        void remember(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p) {
+            if (spec != &s) {
+                named.clear();
+                std::vector<bool> in(s.args.size(), false);
+                const auto add = [&](int i) {
+                    if (i >= 0 && !in[static_cast<size_t>(i)]) in[static_cast<size_t>(i)] = true, named.push_back(static_cast<size_t>(i));
+                };
+                RelationSides local;
+                for (size_t i = 0; i < s.relations.size(); ++i) {
+                    const RelationSides& sides = macro::sides_of(s, i, local);
+                    for (int k : sides.left_args) add(k);
+                    for (int k : sides.right_args) add(k);
+                    for (const ConditionAtom* at : s.relations[i].when.atoms())
+                        if (const ArgSpec* a = at->arg.empty() ? nullptr : s.arg(at->arg))
+                            add(static_cast<int>(a - s.args.data()));
+                }
+            }
+            spec = &s;
+            kind = c.kind;
+            plane = p;
+            args.clear();
+            for (size_t i : named) args.push_back(seen(macro::given(c, s.args[i])));
+        }
+    } quiet_;
 };
 
 }  // namespace
