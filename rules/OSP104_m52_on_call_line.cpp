@@ -16,6 +16,7 @@ constexpr RuleMeta kMeta{
 class M52OnCallLine final : public RuleBase<M52OnCallLine> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

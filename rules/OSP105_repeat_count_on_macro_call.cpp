@@ -15,6 +15,7 @@ constexpr RuleMeta kMeta{
 class RepeatCount final : public RuleBase<RepeatCount> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no Q word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -15,6 +15,7 @@ constexpr RuleMeta kMeta{
 class IgnoredCode final : public RuleBase<IgnoredCode> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -18,7 +18,7 @@ constexpr RuleMeta kMeta{
 class G114ReturnNotFaster final : public RuleBase<G114ReturnNotFaster> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
-    bool sees_plain_calls() const override { return false; }  // a plain call line is a CALL or MODIN, not a G-code macro
+    bool sees_plain_calls() const override { return false; }  // a plain call runs a CALL or MODIN macro, not a G-code one
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (!c || c->kind != CallKind::GCode || !c->spec || c->spec->cancel.empty() || !c->spec->tapping) return;

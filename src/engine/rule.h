@@ -198,7 +198,8 @@ public:
     virtual bool sees_plain_moves(const Config&) const { return meta().blocks != RuleBlocks::Statements; }
     // Whether check_block may do anything (report, or remember something) on
     // a plain call line (semantics/transfer.h, is_plain_call: a CALL or MODIN
-    // of a catalog macro with `Pname=value` arguments only, while no fixed
+    // of a catalog macro with `Pname=value` arguments only, or a positioning
+    // block of an open MODIN with X, Y and Z numbers only, while no fixed
     // cycle is modal). A posted program may be made of such lines, and most
     // rules are about something else (jumps, names, M and G codes, fixed
     // cycles): rules that return false are not called for them. As for plain

@@ -772,15 +772,25 @@ bool is_plain_move_block(const Block& b) {
 
 bool is_plain_call(const BlockView& v) {
     const MacroCall* c = v.call;
-    if (!v.reachable || !c || (c->kind != CallKind::Call && c->kind != CallKind::Modin) || !c->spec ||
-        c->spec->kind != SpecKind::Macro || c->summary)
-        return false;
+    if (!v.reachable || !c || !c->spec || c->spec->kind != SpecKind::Macro || c->summary) return false;
     const Block& b = v.block;
-    if (b.kind != LineKind::Block || b.program_name || b.block_delete || b.sequence || b.statements.size() != 1 ||
-        !b.assignments.empty() || !b.comments.empty() || !b.errors.empty())
+    if (b.kind != LineKind::Block || b.program_name || b.block_delete || b.sequence || !b.assignments.empty() ||
+        !b.comments.empty() || !b.errors.empty())
         return false;
-    for (const auto& w : b.words)
-        if (w.address.size() < 2 || w.address[0] != 'P') return false;
+    if (c->kind == CallKind::Call || c->kind == CallKind::Modin) {
+        if (b.statements.size() != 1) return false;
+        for (const auto& w : b.words)
+            if (w.address.size() < 2 || w.address[0] != 'P') return false;
+    } else if (c->kind == CallKind::ModinPositioning) {
+        // A positioning block of an open MODIN (`X56. Y10.`): axis words with numbers.
+        if (!b.statements.empty()) return false;
+        for (const auto& w : b.words)
+            if (w.address.size() != 1 || (w.address[0] != 'X' && w.address[0] != 'Y' && w.address[0] != 'Z') ||
+                !w.number)
+                return false;
+    } else {
+        return false;
+    }
     return no_cycle(v.before) && no_cycle(v.after);
 }
 

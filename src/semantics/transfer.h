@@ -56,11 +56,12 @@ bool plain_moves_possible(const Catalog& catalog);
 
 // Plain calls: a block that is only `CALL` or `MODIN` of a catalog macro
 // (not a user subprogram) with arguments `Pname=value` (an address of two
-// letters or more that starts with P: no M, Q, G or N word), with no
-// sequence name, program name, block delete, comment, assignment or syntax
-// error, reached by a path, while no fixed cycle is known to be modal before
-// or after it. The walk hands such a block only to the rules that look at
-// one (Rule::sees_plain_calls).
+// letters or more that starts with P: no M, Q, G or N word), or only a
+// positioning block of an open MODIN of one with X, Y and Z words of
+// numbers (`X56. Y10.`), with no sequence name, program name, block delete,
+// comment, assignment or syntax error, reached by a path, while no fixed
+// cycle is known to be modal before or after it. The walk hands such a block
+// only to the rules that look at one (Rule::sees_plain_calls).
 bool is_plain_call(const BlockView& v);
 // apply_block(block, nullptr, catalog, state) for a plain move in a plain-move state.
 void apply_plain_move(const Block& block, ModalState& state);
