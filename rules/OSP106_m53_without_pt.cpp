@@ -15,6 +15,8 @@ constexpr RuleMeta kMeta{
 class M53WithoutPt final : public RuleBase<M53WithoutPt> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // Only a macro that returns to PT under M53.
+    bool sees_plain_calls_of(const MacroSpec& spec, CallKind) const override { return spec.m53 == M53Mode::ReturnToPT; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -16,6 +16,10 @@ constexpr RuleMeta kMeta{
 class NoShift final : public RuleBase<NoShift> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // Only a macro that needs one of some arguments, on the line that calls it.
+    bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
+        return !spec.at_least_one.empty() && kind != CallKind::ModinPositioning;
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

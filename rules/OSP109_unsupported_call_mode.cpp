@@ -39,6 +39,9 @@ std::string documented_forms(const MacroSpec& s) {
 class UnsupportedCallMode final : public RuleBase<UnsupportedCallMode> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    bool sees_plain_calls_of(const MacroSpec&, CallKind kind) const override {
+        return kind != CallKind::ModinPositioning;  // about the CALL or MODIN line
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -16,6 +16,13 @@ constexpr RuleMeta kMeta{
 class ShiftWithoutAxis final : public RuleBase<ShiftWithoutAxis> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // Only a macro with a tool-shift argument, on the line that calls it.
+    bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
+        if (kind == CallKind::ModinPositioning) return false;
+        for (const ArgSpec& a : spec.args)
+            if (a.role == ArgRole::Shift) return true;
+        return false;
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -31,6 +31,10 @@ std::optional<std::pair<const ActionStep*, std::string>> rapid_plunge(const Macr
 class RapidPlunge final : public RuleBase<RapidPlunge> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // Only a macro that plunges at rapid without a feed argument, on the line that calls it.
+    bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
+        return kind != CallKind::ModinPositioning && rapid_plunge(spec).has_value();
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -79,6 +79,10 @@ struct Site {
 class ManualCaution final : public RuleBase<ManualCaution> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // Only a macro with cautions, where it is commanded.
+    bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
+        return !spec.cautions.empty() && kind != CallKind::ModinPositioning;
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (v.call && v.call->spec && v.call->spec->kind == SpecKind::Macro) {
             // Where the macro is commanded; not each positioning block of an open MODIN.

@@ -125,6 +125,10 @@ bool is_point(const std::string& text, const MacroSpec& spec) {
 class CycleAxisOrder final : public RuleBase<CycleAxisOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // Only a macro whose catalog entry orders its points (not a cycle macro: G114).
+    bool sees_plain_calls_of(const MacroSpec& spec, CallKind) const override {
+        return !spec.relations.empty() && !(spec.has_form(MacroForm::GCode) && !spec.cancel.empty());
+    }
     void begin_program(RuleContext&, const ProgramView&) override { reported_.clear(); }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;

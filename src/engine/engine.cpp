@@ -825,6 +825,8 @@ void Walk::index_plain_rules() {
     call_rules_.clear();
     for (auto& r : rules_)
         if (r->sees_plain_calls()) call_rules_.push_back(r.get());
+    call_rules_of_.clear();
+    last_call_rules_ = nullptr;
     plain_rules_.clear();
     plain_named_.clear();
     plain_digits_.clear();
@@ -856,6 +858,18 @@ void Walk::index_plain_rules() {
     }
 }
 
+const std::vector<Rule*>& Walk::call_rules_of(const MacroCall& call) {
+    const std::pair<const MacroSpec*, CallKind> of{call.spec, call.kind};
+    if (last_call_rules_ && last_call_of_ == of) return *last_call_rules_;
+    auto [it, added] = call_rules_of_.try_emplace(of);
+    if (added)
+        for (Rule* r : call_rules_)
+            if (r->sees_plain_calls_of(*call.spec, call.kind)) it->second.push_back(r);
+    last_call_of_ = of;
+    last_call_rules_ = &it->second;
+    return it->second;
+}
+
 void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
     if (plain) {
         // Where paths join (a name a jump or N word names), the state may not be
@@ -866,7 +880,7 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
             if (join || plain_rules_[i]->wants_plain_moves() || (named && plain_named_[i]))
                 plain_rules_[i]->check_block(*this, view);
     } else if (is_plain_call(view)) {
-        for (Rule* r : call_rules_) r->check_block(*this, view);
+        for (Rule* r : call_rules_of(*view.call)) r->check_block(*this, view);
     } else {
         for (auto& r : rules_) r->check_block(*this, view);
     }

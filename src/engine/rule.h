@@ -206,6 +206,12 @@ public:
     // moves, the differential tests hold the engine to a walk that shows
     // every rule every block.
     virtual bool sees_plain_calls() const { return true; }
+    // Of a rule that sees plain calls: whether check_block may do anything
+    // on a plain call of `spec` made as `kind` (Call, Modin or
+    // ModinPositioning), in any state. Asked once per macro and kind in a
+    // walk: a rule about some macros only (those with a tool shift, those
+    // that plunge at rapid) says no for the others.
+    virtual bool sees_plain_calls_of(const MacroSpec&, CallKind) const { return true; }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
     // another block (OSP004 once it knows where the program's content starts).

@@ -402,6 +402,12 @@ private:
     std::vector<std::unique_ptr<Rule>> rules_;
     std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
     std::vector<Rule*> call_rules_;   // the rules that look at plain calls (Rule::sees_plain_calls)
+    // Of those, the ones that look at a plain call of a macro made so
+    // (Rule::sees_plain_calls_of), by macro and kind, and the last asked for.
+    std::map<std::pair<const MacroSpec*, CallKind>, std::vector<Rule*>> call_rules_of_;
+    const std::vector<Rule*>* last_call_rules_ = nullptr;
+    std::pair<const MacroSpec*, CallKind> last_call_of_{nullptr, CallKind::None};
+    const std::vector<Rule*>& call_rules_of(const MacroCall& call);
     std::vector<char> plain_named_;   // of each, whether it is RuleBlocks::Named
     bool named_values_ = true;        // every RuleBlocks::Named rule takes plain values
     // Of each of them, its quiet_below as digits before the point (nullopt: none).
