@@ -145,14 +145,16 @@ public:
         // A call the last quiet one decides (below): nothing to say.
         const bool memo = c->kind != CallKind::ModinPositioning;
         if (memo && quiet_.same(*spec, *c, plane)) return;
-        bool read_current = false, reported = false;  // what keeps the check out of quiet_
+        // What keeps the check out of quiet_: a value read from the current
+        // position, a name of no argument (none in a catalog that loads), a finding.
+        bool outside_memo = false, reported = false;
 
         // `arg`: the argument `name` is (its index in the spec's args, -1: none);
         // `how`, only for a finding: where a value not on the line comes from.
         const auto lookup = [&](const std::string& name, int arg, std::string* how) -> Value {
             Value out;
             const ArgSpec* a = arg >= 0 ? &spec->args[static_cast<size_t>(arg)] : nullptr;
-            if (!a) read_current = true;  // a name of no argument (none in a catalog that loads): not memoized
+            if (!a) outside_memo = true;
             if (const MacroArg* m = a ? macro::given(*c, *a) : c->arg(name)) {
                 if (!m->value.known) return out;
                 out.known = true;
@@ -173,7 +175,7 @@ public:
                 out.known = true;
                 out.value = cur.value;
                 out.current = true;
-                read_current = true;
+                outside_memo = true;
                 if (how) *how = "not given: the current " + std::string(1, axis) + " position " + motion_number(cur.value);
             } else if (a->omitted == ArgOmitted::None &&
                        (a->role == ArgRole::Length || a->role == ArgRole::Stroke || a->role == ArgRole::Shift)) {
@@ -218,7 +220,7 @@ public:
             reported = true;
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
         }
-        if (memo && !reported && !read_current) quiet_.remember(*spec, *c, plane);
+        if (memo && !reported && !outside_memo) quiet_.remember(*spec, *c, plane);
     }
 
     bool same_as(const CycleAxisOrder& o) const { return reported_ == o.reported_; }
@@ -292,7 +294,9 @@ private:
                 named.clear();
                 std::vector<bool> in(s.args.size(), false);
                 const auto add = [&](int i) {
-                    if (i >= 0 && !in[static_cast<size_t>(i)]) in[static_cast<size_t>(i)] = true, named.push_back(static_cast<size_t>(i));
+                    if (i < 0 || in[static_cast<size_t>(i)]) return;
+                    in[static_cast<size_t>(i)] = true;
+                    named.push_back(static_cast<size_t>(i));
                 };
                 RelationSides local;
                 for (size_t i = 0; i < s.relations.size(); ++i) {
