@@ -269,24 +269,16 @@ private:
     // too: a posted program calls a macro thousands of times, with the
     // position changed and the cycle-axis points the same. Not state:
     // same_as leaves it out.
-    struct Seen {
-        bool given = false, known = false;
-        double value = 0;
-        bool operator==(const Seen& o) const { return given == o.given && known == o.known && value == o.value; }
-    };
-    static Seen seen(const MacroArg* m) {
-        return m ? Seen{true, m->value.known, m->value.known ? m->value.value : 0} : Seen{};
-    }
     struct Quiet {
         const MacroSpec* spec = nullptr;
         CallKind kind = CallKind::None;
         std::optional<Plane> plane;
         std::vector<size_t> named;  // the arguments the relations of `spec` name
-        std::vector<Seen> args;     // of each of them
+        std::vector<ArgSeen> args;  // of each of them
         bool same(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p) const {
             if (spec != &s || kind != c.kind || plane != p) return false;
             for (size_t i = 0; i < named.size(); ++i)
-                if (!(seen(macro::given(c, s.args[named[i]])) == args[i])) return false;
+                if (!(ArgSeen::of(macro::given(c, s.args[named[i]])) == args[i])) return false;
             return true;
         }
         void remember(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p) {
@@ -312,7 +304,7 @@ private:
             kind = c.kind;
             plane = p;
             args.clear();
-            for (size_t i : named) args.push_back(seen(macro::given(c, s.args[i])));
+            for (size_t i : named) args.push_back(ArgSeen::of(macro::given(c, s.args[i])));
         }
     } quiet_;
 };

@@ -226,6 +226,41 @@ void MacroSpec::index_args() {
     for (const ActionStep& step : action) step_sides_.push_back(osplint::step_sides(step, *this));
     step_sides_of = action.size();
     step_sides_args_ = args.size();
+    index_action_args();
+}
+
+void MacroSpec::index_action_args() {
+    action_args_.clear();
+    action_args_read_ = false;
+    std::vector<bool> in(args.size(), false);
+    // False when `name` is not written exactly as the name or an alias of
+    // argument `i` (then the call is searched by that spelling too).
+    const auto add = [&](int i, std::string_view name) {
+        if (i < 0) return false;
+        const ArgSpec& a = args[static_cast<size_t>(i)];
+        if (name != a.name && std::find(a.aliases.begin(), a.aliases.end(), name) == a.aliases.end()) return false;
+        if (!in[static_cast<size_t>(i)]) action_args_.push_back(static_cast<uint16_t>(i));
+        in[static_cast<size_t>(i)] = true;
+        return true;
+    };
+    const auto add_terms = [&](const std::optional<std::vector<ExprTerm>>& terms, const std::vector<int>& found) {
+        for (size_t k = 0; k < terms->size(); ++k)
+            if (!(*terms)[k].name.empty() && !add(found[k], (*terms)[k].name)) return false;
+        return true;
+    };
+    if (args.size() > 0xFFFF) return;
+    for (size_t i = 0; i < action.size(); ++i) {
+        const ActionStep& step = action[i];
+        const StepSides& sides = step_sides_[i];
+        if (!step.target.empty() && !(sides.target && add_terms(sides.target, sides.target_args))) return;
+        if (step.target.empty() && !step.by.empty() && !(sides.by && add_terms(sides.by, sides.by_args))) return;
+        for (const ConditionAtom* at : step.when.atoms()) {
+            if (at->arg.empty()) continue;
+            const ArgSpec* a = arg(at->arg);
+            if (!add(a ? static_cast<int>(a - args.data()) : -1, at->arg)) return;
+        }
+    }
+    action_args_read_ = true;
 }
 
 namespace {

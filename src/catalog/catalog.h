@@ -283,8 +283,9 @@ struct MacroSpec {
     // made for another number of arguments: arg() compares the names.
     std::vector<std::pair<uint64_t, uint16_t>> arg_index;
     size_t arg_index_of = 0;  // args.size() when it was made
-    // Makes arg_index, relation_sides_ and step_sides_.
+    // Makes arg_index, relation_sides_, step_sides_ and action_args_.
     void index_args();
+    void index_action_args();  // the part of index_args that makes action_args_
     // `relations` with their sides read (relation_sides), made with
     // index_args; for another number of relations, sides() makes none.
     std::vector<RelationSides> relation_sides_;
@@ -309,6 +310,18 @@ struct MacroSpec {
         return step_sides_of == action.size() && step_sides_args_ == args.size() && i < step_sides_.size()
                    ? &step_sides_[i]
                    : nullptr;
+    }
+    // The arguments the action sequence reads (each term of a step's `target`
+    // and `by`, each argument its conditions name), each once, made with
+    // index_args; empty and not `action_args_read_` when a step's expression
+    // is not in the syntax or a name is not exactly an argument's name or
+    // alias (the steps then read more than the arguments listed).
+    std::vector<uint16_t> action_args_;
+    bool action_args_read_ = false;
+    // Those arguments' indices in `args`, or nullptr when not made or not read.
+    const std::vector<uint16_t>* action_args() const {
+        return action_args_read_ && step_sides_of == action.size() && step_sides_args_ == args.size() ? &action_args_
+                                                                                                     : nullptr;
     }
 
     // By name or alias, case-insensitive.

@@ -87,6 +87,18 @@ struct MacroCall {
     void clear();
 };
 
+// What a check reads of one argument of a call: whether it is given, and
+// its value when known. Two calls that agree on it for every argument a check
+// reads get the same answer from it (the memos of OSP301 and OSP302).
+struct ArgSeen {
+    bool given = false, known = false;
+    double value = 0;
+    static ArgSeen of(const MacroArg* m) {
+        return m ? ArgSeen{true, m->value.known, m->value.known ? m->value.value : 0} : ArgSeen{};
+    }
+    friend bool operator==(const ArgSeen&, const ArgSeen&) = default;
+};
+
 // What link_arg_specs found for the argument names of the last call it
 // linked. A posted program writes the same call (macro and argument names,
 // in the same order) thousands of times: the next such call takes the links

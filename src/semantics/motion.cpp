@@ -149,6 +149,7 @@ using motion_detail::is_any_axis;
 using motion_detail::is_cycle_macro;
 using motion_detail::macro_end_point;
 using motion_detail::macro_envelope;
+using motion_detail::runs_macro;
 
 std::string MotionPoint::describe() const {
     std::string out = label.empty() ? "step " + step : label;
@@ -204,11 +205,7 @@ bool is_cycle_hole(const Block& b, const ModalState& before, const ModalState& a
            c.start_range.end <= b.range.end;
 }
 
-namespace {
-
-// Whether the block runs a catalog macro with an action sequence: a CALL, a
-// positioning block of an open MODIN (not under NCYL), a one-shot G-code macro.
-bool runs_macro(const Block& b, const MacroCall* call) {
+bool motion_detail::runs_macro(const Block& b, const MacroCall* call) {
     if (b.kind != LineKind::Block || !call || !call->spec || call->spec->kind != SpecKind::Macro ||
         call->spec->action.empty())
         return false;
@@ -217,13 +214,12 @@ bool runs_macro(const Block& b, const MacroCall* call) {
            (call->kind == CallKind::GCode && !is_cycle_macro(*call->spec));
 }
 
-}  // namespace
-
 std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                        const MacroCall* call, const Config& config, EnvelopeDetail detail) {
     if (b.kind != LineKind::Block) return std::nullopt;
     if (runs_macro(b, call))
-        return macro_envelope(b, before, after, *call, *call->spec, &config, detail == EnvelopeDetail::Full);
+        return macro_envelope(b, before, after, *call, *call->spec, &config, detail == EnvelopeDetail::Full,
+                              detail != EnvelopeDetail::Plane);
     if (is_cycle_hole(b, before, after, call))
         return hole_envelope(b, before, after, config, detail == EnvelopeDetail::Full);
     return std::nullopt;

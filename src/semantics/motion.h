@@ -137,7 +137,10 @@ bool is_cycle_hole(const Block& block, const ModalState& before, const ModalStat
 // at a fraction of the cost; it asks again in full for the finding. The
 // points of a fixed cycle's holes are described either way (only the steps
 // of a G-code macro cycle's own sequence, OG84L's, go without their text).
-enum class EnvelopeDetail : uint8_t { Full, Values };
+// Plane: for a macro, as Values without the points of its action steps (what
+// a rule asks once MacroAxisMemo has told it the points are as before); for a
+// hole, as Values.
+enum class EnvelopeDetail : uint8_t { Full, Values, Plane };
 
 // The envelope of the motion the block runs on the cycle axis, or nullopt when
 // it runs no macro and no fixed-cycle hole. The holes of a G-code macro cycle
@@ -147,6 +150,42 @@ std::optional<Envelope> cycle_envelope(const Block& block, const ModalState& bef
                                        EnvelopeDetail detail = EnvelopeDetail::Full);
 std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& config,
                                        EnvelopeDetail detail = EnvelopeDetail::Full);
+
+// The last macro call whose action-step points (the cycle-axis part of its
+// envelope) a rule found nothing to report about, with all that those points
+// are worked out from: the macro, the kind of call, the plane, the modes the
+// steps' conditions test (distance, spindle, cutter compensation, return
+// level), the current cycle-axis position, the cycle axis's travel limits,
+// and each argument the action sequence reads (MacroSpec::action_args). A
+// call that agrees on all of these has the same points: a posted program
+// calls a macro thousands of times with only its position changed. A macro
+// whose steps read more than that (MacroSpec::action_args is nullptr) is
+// never remembered. A cache, not a rule's state: what a rule reports with it
+// is what it reports without it.
+class MacroAxisMemo {
+public:
+    // Whether `v` runs a macro with the same points as the call remembered.
+    bool same(const BlockView& v, const Config& config) const;
+    // Remembers `v`, when it runs a macro whose steps' reads are listed.
+    void remember(const BlockView& v, const Config& config);
+
+private:
+    struct Key {
+        const MacroSpec* spec = nullptr;
+        CallKind kind = CallKind::None;
+        Val<Plane> plane;
+        Val<Distance> distance;
+        Val<int> spindle, cutter_comp, return_level;
+        Val<double> position;  // on the cycle axis
+        std::optional<TravelLimit> travel;  // of the cycle axis
+    };
+    // The key of `v` (spec nullptr: not one to remember); `args` gets what
+    // it reads of each argument when `args` is not null.
+    static Key key_of(const BlockView& v, const Config& config, std::vector<ArgSeen>* args);
+    static bool same_key(const Key& a, const Key& b);
+    Key key_;
+    std::vector<ArgSeen> args_;
+};
 
 // Where a catalog macro the block runs (a CALL, a positioning block of an open
 // MODIN, a one-shot G-code macro) leaves the tool on the cycle axis: the axis

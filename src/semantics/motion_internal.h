@@ -127,11 +127,16 @@ MotionPoint step_point(const ActionStep& step);
 // Sets the extremes and the bounds of an envelope from its points.
 void finish(Envelope& env);
 
+// Whether the block runs a catalog macro with an action sequence: a CALL, a
+// positioning block of an open MODIN (not under NCYL), a one-shot G-code macro.
+bool runs_macro(const Block& b, const MacroCall* call);
+
 // `config` nullptr: the + travel limit (M52) is not known. `describe` false:
-// the numbers and flags only (EnvelopeDetail::Values).
+// the numbers and flags only (EnvelopeDetail::Values). `steps` false: no
+// points of the action steps (EnvelopeDetail::Plane).
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                        const MacroCall& call, const MacroSpec& spec, const Config* config,
-                                       bool describe = true);
+                                       bool describe = true, bool steps = true);
 // The cycle axis and the `end` of macro_envelope (no travel limit known),
 // when the plane and the end are known: for the transfer step, which needs
 // nothing else of the envelope on every macro call.

@@ -454,7 +454,7 @@ void add_plane_spans(Envelope& env, const MacroSpec& spec, const Lookup& lookup,
 
 std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                        const MacroCall& call, const MacroSpec& spec, const Config* config,
-                                       bool describe) {
+                                       bool describe, bool steps) {
     Envelope env;
     env.source = MotionSource::Macro;
     env.name = spec.name;
@@ -478,7 +478,7 @@ std::optional<Envelope> macro_envelope(const Block& b, const ModalState& before,
     const MacroRun run{b, before, after, call, spec, config, plane, env.axis, describe};
     const auto arg = [&](const std::string& name) { return run.arg(name); };
     const Lookup lookup = arg;
-    walk_action(run, lookup, env);
+    if (steps) walk_action(run, lookup, env);
     if (describe && spec.g91 == G91Mode::Unsupported && env.incremental)
         env.notes.push_back(spec.name + " does not work under G91 (its motion is shifted); the envelope is the G90 reading");
     if (describe && before.units.is(Units::Inch) && spec.units == MacroUnits::MmOnly)
@@ -503,3 +503,60 @@ std::optional<std::pair<char, double>> macro_end_point(const Block& b, const Mod
 }
 
 }  // namespace osplint::motion_detail
+
+namespace osplint {
+
+namespace {
+template <class T>
+bool same_val(const Val<T>& a, const Val<T>& b) {
+    return a.known == b.known && (!a.known || a.value == b.value);
+}
+}  // namespace
+
+MacroAxisMemo::Key MacroAxisMemo::key_of(const BlockView& v, const Config& config, std::vector<ArgSeen>* args) {
+    Key k;
+    const MacroCall* c = v.call;
+    if (!motion_detail::runs_macro(v.block, c)) return k;
+    const MacroSpec& spec = *c->spec;
+    const std::vector<uint16_t>* reads = spec.action_args();
+    if (!reads) return k;
+    k.spec = &spec;
+    k.kind = c->kind;
+    k.plane = v.before.plane;
+    k.distance = v.before.distance;
+    k.spindle = v.before.spindle;
+    k.cutter_comp = v.before.cutter_comp;
+    k.return_level = v.after.return_level;
+    if (v.before.plane.known) {
+        const char axis = plane_axes(v.before.plane.value).cycle;
+        k.position = v.before.axis(axis);
+        if (auto it = config.travel.find(axis); it != config.travel.end()) k.travel = it->second;
+    }
+    if (args) {
+        args->clear();
+        for (uint16_t i : *reads) args->push_back(ArgSeen::of(c->given(spec.args[i])));
+    }
+    return k;
+}
+
+bool MacroAxisMemo::same_key(const Key& a, const Key& b) {
+    const auto same_travel = [](const std::optional<TravelLimit>& x, const std::optional<TravelLimit>& y) {
+        return x.has_value() == y.has_value() && (!x || (x->min == y->min && x->max == y->max));
+    };
+    return a.spec == b.spec && a.kind == b.kind && same_val(a.plane, b.plane) && same_val(a.distance, b.distance) &&
+           same_val(a.spindle, b.spindle) && same_val(a.cutter_comp, b.cutter_comp) &&
+           same_val(a.return_level, b.return_level) && same_val(a.position, b.position) && same_travel(a.travel, b.travel);
+}
+
+bool MacroAxisMemo::same(const BlockView& v, const Config& config) const {
+    if (!key_.spec || !v.call || v.call->spec != key_.spec) return false;
+    if (!same_key(key_of(v, config, nullptr), key_)) return false;
+    const std::vector<uint16_t>& reads = *key_.spec->action_args();
+    for (size_t j = 0; j < reads.size(); ++j)
+        if (!(ArgSeen::of(v.call->given(key_.spec->args[reads[j]])) == args_[j])) return false;
+    return true;
+}
+
+void MacroAxisMemo::remember(const BlockView& v, const Config& config) { key_ = key_of(v, config, &args_); }
+
+}  // namespace osplint

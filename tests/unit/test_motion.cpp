@@ -733,6 +733,100 @@ TEST_CASE("an envelope worked out as values only has every number and flag of th
     CHECK(with_text > 50);
 }
 
+TEST_CASE("a macro call MacroAxisMemo calls the same as the last one has the same action-step points") {
+    // OSP301 passes over the cycle-axis points of a call the memo calls the
+    // same as the last quiet one, and looks only at the positioning plane
+    // (EnvelopeDetail::Plane). On every pair of macro calls in a row, in the
+    // corpus and in a program that changes one input at a time, the memo's
+    // "same" must mean the same points, and the plane part must be the one
+    // of the envelope worked out in values.
+    int hits = 0, misses = 0;
+    auto compare = [&](const std::string& name, const std::string& text, const Config& config) {
+        const auto analysis = osplint::testing::analyze_text(name, text, config);
+        MacroAxisMemo memo;
+        std::optional<Envelope> last;
+        for (const auto& b : analysis.blocks) {
+            const BlockView v = b.view();
+            const auto values = cycle_envelope(v, config, EnvelopeDetail::Values);
+            if (!values || values->source != MotionSource::Macro) continue;
+            CAPTURE(name);
+            CAPTURE(v.block.line);
+            if (memo.same(v, config)) {
+                ++hits;
+                REQUIRE(last);
+                REQUIRE(values->points.size() == last->points.size());
+                for (size_t i = 0; i < values->points.size(); ++i) {
+                    const MotionPoint& p = values->points[i];
+                    const MotionPoint& q = last->points[i];
+                    CHECK(p.value == q.value);
+                    CHECK(p.reach.has_value() == q.reach.has_value());
+                    if (p.reach && q.reach) CHECK((p.reach->lo == q.reach->lo && p.reach->hi == q.reach->hi));
+                    CHECK((p.possible == q.possible && p.limit == q.limit && p.start == q.start));
+                }
+                const auto plane = cycle_envelope(v, config, EnvelopeDetail::Plane);
+                REQUIRE(plane);
+                CHECK(plane->points.empty());
+                REQUIRE(plane->plane_points.size() == values->plane_points.size());
+                for (size_t i = 0; i < plane->plane_points.size(); ++i)
+                    CHECK((plane->plane_points[i].value == values->plane_points[i].value &&
+                           plane->plane_points[i].what == values->plane_points[i].what));
+                REQUIRE(plane->plane_spans.size() == values->plane_spans.size());
+                for (size_t i = 0; i < plane->plane_spans.size(); ++i)
+                    CHECK((plane->plane_spans[i].range.lo == values->plane_spans[i].range.lo &&
+                           plane->plane_spans[i].range.hi == values->plane_spans[i].range.hi));
+            } else {
+                ++misses;
+            }
+            memo.remember(v, config);
+            last = values;
+        }
+    };
+    Config travel;
+    travel.travel['X'] = TravelLimit{-20, 20};
+    travel.travel['Z'] = TravelLimit{-25, 60};
+    for (const auto& f : osplint::testing::corpus_files()) {
+        std::ifstream in(f, std::ios::binary);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        compare(f.string(), ss.str(), Config{});
+        compare(f.string(), ss.str(), travel);
+    }
+    // Each call after the second repeats the one before but for one input:
+    // the position in the plane only (a hit), an argument the steps read,
+    // whether one is given, the return level, the macro, the kind of call,
+    // the current Z (read for OG87C's omitted PA), the distance mode, the
+    // plane. The second differs from the first in Z, where the first left
+    // the tool (a miss: the memo takes in the current position whether the
+    // macro reads it or not).
+    const std::string program = kHead +
+                                "CALL OZAGR PX=0 PY=10. PR=5. PZ=-20. PI=5. PT=50.\n"
+                                "CALL OZAGR PX=7. PY=10. PR=5. PZ=-20. PI=5. PT=50.\n"
+                                "CALL OZAGR PX=9. PY=11. PR=5. PZ=-20. PI=5. PT=50.\n"
+                                "CALL OZAGR PX=7. PY=10. PR=5. PZ=-22. PI=5. PT=50.\n"
+                                "CALL OZAGR PX=7. PY=10. PR=5. PZ=-22. PI=5. PT=50. PL=3.\n"
+                                "M53\n"
+                                "CALL OZAGR PX=7. PY=10. PR=5. PZ=-22. PI=5. PT=50. PL=3.\n"
+                                "MODIN OG87C PR=-45. PZ=-36. PC=22. PI=2.5 PD=21.\n"
+                                "X10. Y5.\n"
+                                "X12. Y5.\n"
+                                "MODOUT\n"
+                                "G0 Z40.\n"
+                                "CALL OG87C PX=0 PY=0 PR=-45. PZ=-36. PC=22. PI=2.5 PD=21.\n"
+                                "CALL OG87C PX=5. PY=0 PR=-45. PZ=-36. PC=22. PI=2.5 PD=21.\n"
+                                "G0 Z45.\n"
+                                "CALL OG87C PX=5. PY=0 PR=-45. PZ=-36. PC=22. PI=2.5 PD=21.\n"
+                                "G91\n"
+                                "CALL OZAGR PX=0 PY=0 PR=5. PZ=-20. PI=5. PT=50.\n"
+                                "G90 G18\n"
+                                "CALL OZAGR PX=0 PY=0 PR=5. PZ=-20. PI=5. PT=50.\n"
+                                "M30\n";
+    const int hits_before = hits, misses_before = misses;
+    compare("inputs.MIN", program, travel);
+    CHECK(hits - hits_before == 3);  // lines 7, 14 and 18
+    CHECK(misses - misses_before == 10);
+    CHECK(hits > 20);
+}
+
 TEST_CASE("unknown values stay unknown") {
     auto t = trace_text(kHead +
                         "CALL OZAGR PR=5. PZ=VC1 PI=6.\n"
