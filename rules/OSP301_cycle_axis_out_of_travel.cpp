@@ -54,6 +54,14 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Config& config = ctx.config();
         if (config.travel.empty()) return;
+        // A macro call with the action-step points of the last quiet one:
+        // only the positioning plane is left to look at.
+        if (!v.plain_move && axis_quiet_.same(v, config)) {
+            const std::optional<Envelope> plane = cycle_envelope(v, config, EnvelopeDetail::Plane);
+            if (plane && travel_violations(*plane, config).empty()) return;
+            report_envelope(ctx, v, config);
+            return;
+        }
         // A plain move runs no macro and drills no hole: no envelope.
         std::optional<Envelope> env =
             v.plain_move ? std::nullopt : cycle_envelope(v, config, EnvelopeDetail::Values);
@@ -64,35 +72,11 @@ public:
             return;
         }
         // The values decide; the text of a finding needs the envelope in full.
-        if (travel_violations(*env, config).empty()) return;
-        env = cycle_envelope(v, config);
-        for (const auto& t : travel_violations(*env, config)) {
-            ByteRange where = v.call ? macro::call_range(*v.call, v.block) : v.block.range;
-            if (t.point >= 0) {
-                where = where_for(v, *env, env->points[static_cast<size_t>(t.point)]);
-            } else if (v.call && v.call->arg(t.name) && v.call->arg(t.name)->word) {
-                where = v.call->arg(t.name)->word->range;
-            } else if (const Word* w = v.block.find(t.name)) {
-                where = w->range;
-            }
-            const std::string key = env->title() + ' ' + t.axis + (t.below ? '-' : '+');
-            if (ctx.folded(kMeta, key, where)) continue;
-            double by = std::fabs(t.value - t.limit);
-            std::string msg = env->title() + " takes " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
-                              motion_number(by) + (t.below ? " below" : " above") + " the " + std::string(1, t.axis) +
-                              " travel " + (t.below ? "minimum " : "maximum ") + motion_number(t.limit) + ": " + t.what;
-            auto& d = ctx.report(kMeta, where, std::move(msg));
-            d.notes.push_back({travel_text(config, t.axis), std::nullopt});
-            if (!t.note.empty()) d.notes.push_back({t.note, std::nullopt});
-            else if (t.inferred)
-                d.notes.push_back({"this step's target is inferred from the action sequence, not printed in the manual",
-                                   std::nullopt});
-            if (env->call_kind == CallKind::ModinPositioning)
-                d.notes.push_back({"the macro runs here because MODIN " + env->name + " (line " +
-                                       std::to_string(env->origin_line) + ") is open",
-                                   std::nullopt});
-            for (const auto& n : env->notes) d.notes.push_back({n, std::nullopt});
-        }
+        const std::vector<TravelViolation> past = travel_violations(*env, config);
+        if (std::none_of(past.begin(), past.end(), [](const TravelViolation& t) { return t.point >= 0; }))
+            axis_quiet_.remember(v, config);
+        if (past.empty()) return;
+        report_envelope(ctx, v, config);
     }
 
     // A plain move read without its block: the same check as check_block's.
@@ -121,6 +105,38 @@ public:
     }
 
 private:
+    // The findings of the envelope of `v` (a macro call or a hole), in full.
+    static void report_envelope(RuleContext& ctx, const BlockView& v, const Config& config) {
+        const std::optional<Envelope> env = cycle_envelope(v, config);
+        if (!env) return;
+        for (const auto& t : travel_violations(*env, config)) {
+            ByteRange where = v.call ? macro::call_range(*v.call, v.block) : v.block.range;
+            if (t.point >= 0) {
+                where = where_for(v, *env, env->points[static_cast<size_t>(t.point)]);
+            } else if (v.call && v.call->arg(t.name) && v.call->arg(t.name)->word) {
+                where = v.call->arg(t.name)->word->range;
+            } else if (const Word* w = v.block.find(t.name)) {
+                where = w->range;
+            }
+            const std::string key = env->title() + ' ' + t.axis + (t.below ? '-' : '+');
+            if (ctx.folded(kMeta, key, where)) continue;
+            double by = std::fabs(t.value - t.limit);
+            std::string msg = env->title() + " takes " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
+                              motion_number(by) + (t.below ? " below" : " above") + " the " + std::string(1, t.axis) +
+                              " travel " + (t.below ? "minimum " : "maximum ") + motion_number(t.limit) + ": " + t.what;
+            auto& d = ctx.report(kMeta, where, std::move(msg));
+            d.notes.push_back({travel_text(config, t.axis), std::nullopt});
+            if (!t.note.empty()) d.notes.push_back({t.note, std::nullopt});
+            else if (t.inferred)
+                d.notes.push_back({"this step's target is inferred from the action sequence, not printed in the manual",
+                                   std::nullopt});
+            if (env->call_kind == CallKind::ModinPositioning)
+                d.notes.push_back({"the macro runs here because MODIN " + env->name + " (line " +
+                                       std::to_string(env->origin_line) + ") is open",
+                                   std::nullopt});
+            for (const auto& n : env->notes) d.notes.push_back({n, std::nullopt});
+        }
+    }
     // The axes a positioning block moves past the travel, each on its word.
     static void report_positions(RuleContext& ctx, const Config& config, const AxesPastTravel& past) {
         for (const auto& t : past) {
@@ -138,6 +154,12 @@ private:
         return "this block moves " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
                motion_number(std::fabs(t.value - t.limit)) + (t.below ? " below" : " above");
     }
+    // Not state: what the rule reports is the same without it (so same_as
+    // leaves it out).
+    MacroAxisMemo axis_quiet_;
+
+public:
+    bool same_as(const CycleAxisOutOfTravel&) const { return true; }
 };
 
 }  // namespace
