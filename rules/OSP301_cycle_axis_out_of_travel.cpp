@@ -56,7 +56,7 @@ public:
         if (config.travel.empty()) return;
         // A macro call with the action-step points of the last quiet one:
         // only the positioning plane is left to look at.
-        if (!v.plain_move && axis_quiet_.same(v, config)) {
+        if (!v.plain_move && axis_quiet_.same(v, config.travel)) {
             const std::optional<Envelope> plane = cycle_envelope(v, config, EnvelopeDetail::Plane);
             if (plane && travel_violations(*plane, config).empty()) return;
             report_envelope(ctx, v, config);
@@ -74,7 +74,7 @@ public:
         // The values decide; the text of a finding needs the envelope in full.
         const std::vector<TravelViolation> past = travel_violations(*env, config);
         if (std::none_of(past.begin(), past.end(), [](const TravelViolation& t) { return t.point >= 0; }))
-            axis_quiet_.remember(v, config);
+            axis_quiet_.remember(v, config.travel);
         if (past.empty()) return;
         report_envelope(ctx, v, config);
     }

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <array>
+#include <map>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -151,23 +152,26 @@ std::optional<Envelope> cycle_envelope(const Block& block, const ModalState& bef
 std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& config,
                                        EnvelopeDetail detail = EnvelopeDetail::Full);
 
-// The last macro call whose action-step points (the cycle-axis part of its
-// envelope) a rule found nothing to report about, with all that those points
-// are worked out from: the macro, the kind of call, the plane, the modes the
-// steps' conditions test (distance, spindle, cutter compensation, return
-// level), the current cycle-axis position, the cycle axis's travel limits,
-// and each argument the action sequence reads (MacroSpec::action_args). A
-// call that agrees on all of these has the same points: a posted program
-// calls a macro thousands of times with only its position changed. A macro
-// whose steps read more than that (MacroSpec::action_args is nullptr) is
-// never remembered. A cache, not a rule's state: what a rule reports with it
-// is what it reports without it.
+// The last macro call remembered, with all that the points of its action
+// steps (the cycle-axis part of its envelope) are worked out from: the macro,
+// the kind of call, the plane, the modes the steps' conditions test
+// (distance, spindle, cutter compensation, return level), the current
+// cycle-axis position, the cycle axis's travel limits, and each argument the
+// action sequence reads (MacroSpec::action_args). A call that agrees on all
+// of these has the same points: a posted program calls a macro thousands of
+// times with only its position changed. A macro whose steps read more than
+// that (MacroSpec::action_args is nullptr) is never remembered. OSP301
+// remembers a call whose points are inside the travel. A cache, not state:
+// what is worked out with it is what is worked out without it.
+using TravelLimits = std::map<char, TravelLimit>;
 class MacroAxisMemo {
 public:
-    // Whether `v` runs a macro with the same points as the call remembered.
-    bool same(const BlockView& v, const Config& config) const;
-    // Remembers `v`, when it runs a macro whose steps' reads are listed.
-    void remember(const BlockView& v, const Config& config);
+    // Whether `v` runs a macro with the same points as the call remembered,
+    // under `travel` ([machine.travel]; none where no limit is known).
+    bool same(const BlockView& v, const TravelLimits& travel) const;
+    // Remembers `v`, when it runs a macro whose steps' reads are listed;
+    // otherwise forgets.
+    void remember(const BlockView& v, const TravelLimits& travel);
 
 private:
     struct Key {
@@ -179,10 +183,10 @@ private:
         Val<double> position;  // on the cycle axis
         std::optional<TravelLimit> travel;  // of the cycle axis
     };
-    // The key of `v` (spec nullptr: not one to remember); `args` gets what
-    // it reads of each argument when `args` is not null.
-    static Key key_of(const BlockView& v, const Config& config, std::vector<ArgSeen>* args);
-    static bool same_key(const Key& a, const Key& b);
+    // The key of `v` (spec nullptr: not one to remember), and in `args` what
+    // it reads of each argument. `same` compares `v` with the key as it reads
+    // it: a field added to Key is read in both.
+    static Key key_of(const BlockView& v, const TravelLimits& travel, std::vector<ArgSeen>* args);
     Key key_;
     std::vector<ArgSeen> args_;
 };

@@ -513,7 +513,7 @@ bool same_val(const Val<T>& a, const Val<T>& b) {
 }
 }  // namespace
 
-MacroAxisMemo::Key MacroAxisMemo::key_of(const BlockView& v, const Config& config, std::vector<ArgSeen>* args) {
+MacroAxisMemo::Key MacroAxisMemo::key_of(const BlockView& v, const TravelLimits& travel, std::vector<ArgSeen>* args) {
     Key k;
     const MacroCall* c = v.call;
     if (!motion_detail::runs_macro(v.block, c)) return k;
@@ -530,7 +530,7 @@ MacroAxisMemo::Key MacroAxisMemo::key_of(const BlockView& v, const Config& confi
     if (v.before.plane.known) {
         const char axis = plane_axes(v.before.plane.value).cycle;
         k.position = v.before.axis(axis);
-        if (auto it = config.travel.find(axis); it != config.travel.end()) k.travel = it->second;
+        if (auto it = travel.find(axis); it != travel.end()) k.travel = it->second;
     }
     if (args) {
         args->clear();
@@ -539,24 +539,32 @@ MacroAxisMemo::Key MacroAxisMemo::key_of(const BlockView& v, const Config& confi
     return k;
 }
 
-bool MacroAxisMemo::same_key(const Key& a, const Key& b) {
-    const auto same_travel = [](const std::optional<TravelLimit>& x, const std::optional<TravelLimit>& y) {
-        return x.has_value() == y.has_value() && (!x || (x->min == y->min && x->max == y->max));
-    };
-    return a.spec == b.spec && a.kind == b.kind && same_val(a.plane, b.plane) && same_val(a.distance, b.distance) &&
-           same_val(a.spindle, b.spindle) && same_val(a.cutter_comp, b.cutter_comp) &&
-           same_val(a.return_level, b.return_level) && same_val(a.position, b.position) && same_travel(a.travel, b.travel);
-}
-
-bool MacroAxisMemo::same(const BlockView& v, const Config& config) const {
-    if (!key_.spec || !v.call || v.call->spec != key_.spec) return false;
-    if (!same_key(key_of(v, config, nullptr), key_)) return false;
+bool MacroAxisMemo::same(const BlockView& v, const TravelLimits& travel) const {
+    // key_of's reading, compared field by field as it goes: the same macro
+    // and kind of call run the macro where key_of found it did, but for a
+    // positioning block under NCYL.
+    const MacroCall* c = v.call;
+    if (!key_.spec || !c || c->spec != key_.spec || c->kind != key_.kind || v.block.kind != LineKind::Block) return false;
+    if (c->kind == CallKind::ModinPositioning && v.block.statement(StmtKind::Ncyl)) return false;
+    const ModalState& b = v.before;
+    if (!same_val(b.plane, key_.plane) || !same_val(b.distance, key_.distance) || !same_val(b.spindle, key_.spindle) ||
+        !same_val(b.cutter_comp, key_.cutter_comp) || !same_val(v.after.return_level, key_.return_level))
+        return false;
+    if (b.plane.known) {
+        const char axis = plane_axes(b.plane.value).cycle;
+        if (!same_val(b.axis(axis), key_.position)) return false;
+        const auto it = travel.find(axis);
+        const bool has = it != travel.end();
+        if (has != key_.travel.has_value() ||
+            (has && (it->second.min != key_.travel->min || it->second.max != key_.travel->max)))
+            return false;
+    }
     const std::vector<uint16_t>& reads = *key_.spec->action_args();
     for (size_t j = 0; j < reads.size(); ++j)
-        if (!(ArgSeen::of(v.call->given(key_.spec->args[reads[j]])) == args_[j])) return false;
+        if (!(ArgSeen::of(c->given(key_.spec->args[reads[j]])) == args_[j])) return false;
     return true;
 }
 
-void MacroAxisMemo::remember(const BlockView& v, const Config& config) { key_ = key_of(v, config, &args_); }
+void MacroAxisMemo::remember(const BlockView& v, const TravelLimits& travel) { key_ = key_of(v, travel, &args_); }
 
 }  // namespace osplint
