@@ -27,6 +27,7 @@
 #include "engine/summaries.h"
 #include "engine/suppress.h"
 #include "semantics/eval.h"
+#include "semantics/motion.h"
 #include "semantics/transfer.h"
 #include "syntax/frontend_fast.h"
 #include "syntax/outline.h"
@@ -419,6 +420,7 @@ private:
     mutable std::map<std::string, const SubprogramSummary*, std::less<>> summary_of_;
     mutable ArgLinks arg_links_;  // the last call's argument links (link_arg_specs)
     mutable MacroCall call_;      // the block's call (resolve), its storage kept from block to block
+    MacroEndMemo macro_ends_;     // the last macro call's end point (apply_block; a cache, not state)
     const SubprogramSummary* local_summary(const std::string& name) const;  // of a program of this file
     mutable std::vector<std::pair<std::string, const SubprogramSummary*>> local_used_;  // FrozenWalk::local_used
     bool fingerprints_ = false;

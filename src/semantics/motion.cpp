@@ -226,7 +226,7 @@ std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before,
 }
 
 std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
-                                                 const MacroCall* call) {
+                                                 const MacroCall* call, MacroEndMemo* memo) {
     if (!runs_macro(b, call)) return std::nullopt;
     const MacroSpec& spec = *call->spec;
     // Under G91 a macro that does not support it moves elsewhere; in inch a
@@ -234,7 +234,13 @@ std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalStat
     if (before.distance.is(Distance::Incremental) && spec.g91 == G91Mode::Unsupported) return std::nullopt;
     if (!before.distance.known && spec.g91 == G91Mode::Unsupported) return std::nullopt;
     if (!before.units.is(Units::Mm) && spec.units == MacroUnits::MmOnly) return std::nullopt;
-    return macro_end_point(b, before, after, *call, spec);
+    if (!memo) return macro_end_point(b, before, after, *call, spec);
+    static const TravelLimits kNoTravel;  // macro_end_point knows no travel limits
+    const BlockView v{b, before, after, call};
+    if (memo->call.same(v, kNoTravel)) return memo->end;
+    memo->end = macro_end_point(b, before, after, *call, spec);
+    memo->call.remember(v, kNoTravel);
+    return memo->end;
 }
 
 std::optional<Envelope> cycle_envelope(const BlockView& v, const Config& config, EnvelopeDetail detail) {

@@ -161,8 +161,9 @@ std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& conf
 // of these has the same points: a posted program calls a macro thousands of
 // times with only its position changed. A macro whose steps read more than
 // that (MacroSpec::action_args is nullptr) is never remembered. OSP301
-// remembers a call whose points are inside the travel. A cache, not state:
-// what is worked out with it is what is worked out without it.
+// remembers a call whose points are inside the travel; the transfer step,
+// a call's end point (macro_end). A cache, not state: what is worked out
+// with it is what is worked out without it.
 using TravelLimits = std::map<char, TravelLimit>;
 class MacroAxisMemo {
 public:
@@ -196,8 +197,14 @@ private:
 // and the last point of its action sequence, when that point is definite and
 // known (`Envelope::end`); nullopt otherwise. The + travel limit (M52) needs
 // `[machine.travel]`, which the transfer function does not have: nullopt.
+// `memo`, when set, holds the last call worked out and its end point: a call
+// it calls the same takes that end point.
+struct MacroEndMemo {
+    MacroAxisMemo call;
+    std::optional<std::pair<char, double>> end;
+};
 std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
-                                                 const MacroCall* call);
+                                                 const MacroCall* call, MacroEndMemo* memo = nullptr);
 
 // A point outside `[machine.travel]`.
 struct TravelViolation {

@@ -713,7 +713,7 @@ void apply_assignments(const BlockFacts& f, ModalState& s) {
 
 }  // namespace
 
-void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, ModalState& s) {
+void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, ModalState& s, MacroEndMemo* ends) {
     if (b.kind != LineKind::Block) return;
     s.clear_one_shots();
     const ModalState before = s;  // values of the block are read in the state before it
@@ -732,7 +732,7 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     // A catalog macro's action sequence says where it leaves the cycle axis;
     // the other axes stay unknown after it.
     if (f.runs_program)
-        if (auto end = macro_end(b, before, s, call))
+        if (auto end = macro_end(b, before, s, call, ends))
             if (Val<double>* ax = s.axis_ref(end->first)) *ax = Val<double>::of(end->second);
     // What a user subprogram this block calls leaves behind; the modes it sets
     // are set at the call.

@@ -14,13 +14,16 @@
 namespace osplint {
 
 class Catalog;
+struct MacroEndMemo;
 
 // The state at the start of a program (from the configuration's machine
 // defaults); a subprogram starts with its caller's state, which is unknown.
 ModalState initial_state(const Config& config, bool subprogram);
 
-// Applies one block to the state.
-void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state);
+// Applies one block to the state. `ends`, when set, is the walk's memo of
+// the last macro call's end point (macro_end).
+void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state,
+                 MacroEndMemo* ends = nullptr);
 
 // Resolves the macro or subprogram a block invokes, with evaluated arguments
 // (`links`: see link_arg_specs).
