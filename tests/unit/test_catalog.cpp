@@ -84,6 +84,37 @@ TEST_CASE("the shipped catalog parses, and builtin() serves the embedded copy") 
     CHECK(builtin.cycles().size() == cat.cycles().size());
 }
 
+TEST_CASE("the action sequence of every shipped macro reads arguments listed in MacroSpec::action_args") {
+    // OSP301 remembers a macro's cycle-axis points only when the arguments
+    // its steps read are listed (semantics/motion.h, MacroAxisMemo): a step
+    // the catalog cannot read, or a name written otherwise than the
+    // argument's, would leave the macro out of it without a word.
+    const Catalog cat = Catalog::builtin();
+    for (const MacroSpec& spec : cat.macros()) {
+        CAPTURE(spec.name);
+        if (spec.action.empty()) continue;
+        const std::vector<uint16_t>* reads = spec.action_args();
+        REQUIRE(reads);
+        CHECK(!reads->empty());
+        // Each step's terms and condition names are among them, each once.
+        const std::set<uint16_t> listed(reads->begin(), reads->end());
+        CHECK(listed.size() == reads->size());
+        for (size_t i = 0; i < spec.action.size(); ++i) {
+            const StepSides* sides = spec.step_sides(i);
+            REQUIRE(sides);
+            for (int k : sides->target_args) CHECK((k >= 0 ? listed.count(static_cast<uint16_t>(k)) == 1 : true));
+            for (int k : sides->by_args) CHECK((k >= 0 ? listed.count(static_cast<uint16_t>(k)) == 1 : true));
+            for (const ConditionAtom* at : spec.action[i].when.atoms())
+                if (!at->arg.empty()) CHECK(listed.count(static_cast<uint16_t>(spec.arg(at->arg) - spec.args.data())) == 1);
+        }
+    }
+    // A step that names no argument of its macro: not listed.
+    MacroSpec odd = *cat.find("OZAGR");
+    odd.action.push_back(ActionStep{"99", "to nowhere", "", "PZ-QQ", "", {}, false, ""});
+    odd.index_args();
+    CHECK(odd.action_args() == nullptr);
+}
+
 TEST_CASE("every macro of the manuals is present with its call forms, in manual order") {
     Catalog cat = shipped();
     struct Expect {
