@@ -87,6 +87,30 @@ Config travel_z(double lo, double hi) {
     return c;
 }
 
+// Every number and flag of two envelopes' points, in order (not their text).
+void check_same_points(const std::vector<MotionPoint>& a, const std::vector<MotionPoint>& b) {
+    REQUIRE(a.size() == b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+        const MotionPoint& p = a[i];
+        const MotionPoint& q = b[i];
+        CHECK(p.value == q.value);
+        CHECK(p.reach.has_value() == q.reach.has_value());
+        if (p.reach && q.reach) CHECK((p.reach->lo == q.reach->lo && p.reach->hi == q.reach->hi));
+        CHECK((p.possible == q.possible && p.inferred == q.inferred && p.limit == q.limit && p.start == q.start));
+    }
+}
+
+// `compare(name, text, config)` on every program of the corpus, with no
+// configuration and with `travel`.
+template <class Compare>
+void on_corpus(const Config& travel, Compare&& compare) {
+    for (const auto& f : osplint::testing::corpus_files()) {
+        const std::string text = osplint::testing::read_all(f);
+        compare(f.string(), text, Config{});
+        compare(f.string(), text, travel);
+    }
+}
+
 const std::string kHead = "O1000\nG15 H1\nG0 G90 X0 Y0\nG56 Z50. H3\n";  // lines 1-4; Z at 50
 
 }  // namespace
@@ -634,12 +658,7 @@ TEST_CASE("the end point the transfer step takes is the end of the envelope the 
             ++compared;
         }
     };
-    for (const auto& f : osplint::testing::corpus_files()) {
-        std::ifstream in(f, std::ios::binary);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        compare(f.string(), ss.str());
-    }
+    for (const auto& f : osplint::testing::corpus_files()) compare(f.string(), osplint::testing::read_all(f));
     // The last step conditional on a return level that is known, not known,
     // or known not to hold; a last step that is skipped; a stroke.
     compare("conditions.MIN", kHead +
@@ -689,18 +708,7 @@ TEST_CASE("an envelope worked out as values only has every number and flag of th
             CHECK(full->limit_point == values->limit_point);
             CHECK(full->start == values->start);
             CHECK(full->end == values->end);
-            REQUIRE(full->points.size() == values->points.size());
-            for (size_t i = 0; i < full->points.size(); ++i) {
-                const MotionPoint& f = full->points[i];
-                const MotionPoint& w = values->points[i];
-                CHECK(f.value == w.value);
-                CHECK(f.reach.has_value() == w.reach.has_value());
-                if (f.reach && w.reach) CHECK((f.reach->lo == w.reach->lo && f.reach->hi == w.reach->hi));
-                CHECK(f.possible == w.possible);
-                CHECK(f.inferred == w.inferred);
-                CHECK(f.limit == w.limit);
-                CHECK(f.start == w.start);
-            }
+            check_same_points(full->points, values->points);
             REQUIRE(full->plane_points.size() == values->plane_points.size());
             for (size_t i = 0; i < full->plane_points.size(); ++i) {
                 CHECK(full->plane_points[i].axis == values->plane_points[i].axis);
@@ -722,13 +730,7 @@ TEST_CASE("an envelope worked out as values only has every number and flag of th
     travel.travel['X'] = TravelLimit{-20, 20};
     travel.travel['Y'] = TravelLimit{-30, 30};
     travel.travel['Z'] = TravelLimit{-25, 60};
-    for (const auto& f : osplint::testing::corpus_files()) {
-        std::ifstream in(f, std::ios::binary);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        compare(f.string(), ss.str(), Config{});
-        compare(f.string(), ss.str(), travel);
-    }
+    on_corpus(travel, compare);
     CHECK(compared > 100);
     CHECK(with_text > 50);
 }
@@ -754,15 +756,7 @@ TEST_CASE("a macro call MacroAxisMemo calls the same as the last one has the sam
             if (memo.same(v, config.travel)) {
                 ++hits;
                 REQUIRE(last);
-                REQUIRE(values->points.size() == last->points.size());
-                for (size_t i = 0; i < values->points.size(); ++i) {
-                    const MotionPoint& p = values->points[i];
-                    const MotionPoint& q = last->points[i];
-                    CHECK(p.value == q.value);
-                    CHECK(p.reach.has_value() == q.reach.has_value());
-                    if (p.reach && q.reach) CHECK((p.reach->lo == q.reach->lo && p.reach->hi == q.reach->hi));
-                    CHECK((p.possible == q.possible && p.limit == q.limit && p.start == q.start));
-                }
+                check_same_points(values->points, last->points);
                 const auto plane = cycle_envelope(v, config, EnvelopeDetail::Plane);
                 REQUIRE(plane);
                 CHECK(plane->points.empty());
@@ -784,13 +778,7 @@ TEST_CASE("a macro call MacroAxisMemo calls the same as the last one has the sam
     Config travel;
     travel.travel['X'] = TravelLimit{-20, 20};
     travel.travel['Z'] = TravelLimit{-25, 60};
-    for (const auto& f : osplint::testing::corpus_files()) {
-        std::ifstream in(f, std::ios::binary);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        compare(f.string(), ss.str(), Config{});
-        compare(f.string(), ss.str(), travel);
-    }
+    on_corpus(travel, compare);
     // Each call after the second repeats the one before but for one input:
     // the position in the plane only (a hit), an argument the steps read,
     // whether one is given, the return level, the macro, the kind of call,
