@@ -164,10 +164,14 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
     uint32_t end = r;
     uint32_t pos = r;
     if (outline && plain_call_args(r)) return n;
+    // Whether every argument is plain, as kept_call wants them.
+    call_plain = index == 0 && p == 0;
+    call_args.clear();
     while (true) {
         pos = skip_blanks(pos);
         if (pos >= n) break;
         if (s[pos] == '(') {
+            call_plain = false;
             pos = comment(pos);
             if (pos == kFail) return kFail;
             continue;
@@ -179,7 +183,13 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
         PlainArg a;
         const bool plain = plain_arg<true>(pos, a);
         const uint32_t next = plain ? skip_blanks(a.end) : n;
-        pos = plain && (next >= n || upper(s[next]) == 'P') ? plain_arg_word(pos, a) : item(pos, Ctx::CallArgs);
+        if (plain && (next >= n || upper(s[next]) == 'P')) {
+            if (call_plain) call_args.push_back({pos, a.name_end, a.value_begin, a.end, a.digits_begin > a.value_begin, false});
+            pos = plain_arg_word(pos, a);
+        } else {
+            call_plain = false;
+            pos = item(pos, Ctx::CallArgs);
+        }
         if (pos == kFail) return kFail;
         end = pos;
     }
@@ -527,6 +537,12 @@ void FastLineParser::Impl::start(const LineRef& line) {
 bool FastLineParser::Impl::run(const LineRef& line, Block& out, bool moves) {
     start(line);
     b = &out;
+    if (again.block == &out && !outline && again_call(line, out)) {
+        plain = false;
+        partial = false;
+        ++again_lines;
+        return true;
+    }
     depth = 0;
     exprs_used = 0;
     words_used = 0;
@@ -546,6 +562,7 @@ bool FastLineParser::Impl::run(const LineRef& line, Block& out, bool moves) {
     out.errors.clear();
     plain = false;
     partial = false;
+    call_plain = false;
     bool ok = false;
     if (moves) {
         moves_only = true;
@@ -562,6 +579,7 @@ bool FastLineParser::Impl::run(const LineRef& line, Block& out, bool moves) {
     }
     word_pool.finish(out.words, words_used);
     expr_pool.finish(out.exprs, exprs_used);
+    keep_call(ok);
     return ok;
 }
 
@@ -749,6 +767,8 @@ bool FastLineParser::parse_moves(const LineRef& line, Block& out) {
 }
 
 bool FastLineParser::last_partial() const { return impl_->partial; }
+
+uint64_t FastLineParser::again_lines() const { return impl_->again_lines; }
 
 bool FastLineParser::plain_move(const LineRef& line, PlainMove& out) {
     impl_->start(line);

@@ -32,7 +32,9 @@ namespace osplint {
 
 // Parses lines into Blocks. Keeps its scratch storage (and the storage of the
 // Block it fills) between calls, so that parsing a stream of ordinary blocks
-// does not allocate.
+// does not allocate. A Block it filled may be passed again to take the next
+// line only as it left it: a CALL that repeats the call before it but for
+// some argument values is written over that call's block (again_lines).
 class FastLineParser {
 public:
     FastLineParser();
@@ -115,6 +117,10 @@ public:
     bool last_plain() const { return last_plain_; }
     // Lines handled by each parser so far.
     uint64_t fast_lines() const { return fast_lines_; }
+    // Of those, the CALL and MODIN lines that repeat the line filled into
+    // the same block before them but for some argument values (and blanks):
+    // that block was updated in place (frontend_fast_again.cpp).
+    uint64_t again_lines() const;
     uint64_t fallback_lines() const { return fallback_lines_; }
 
 private:

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "syntax/frontend_fast.h"
 #include "syntax/frontend_fast_lexer.h"
@@ -184,6 +186,46 @@ struct FastLineParser::Impl {
     uint32_t named_item(uint32_t p, Ctx ctx);
     uint32_t letter_assignment(uint32_t p, char c);
     uint32_t item(uint32_t p, Ctx ctx);
+
+    // --- A call line again (frontend_fast_again.cpp) ------------------------------
+
+    // Where a plain argument (`PX=12.5`) of the line lies: its start, the end
+    // of its name, where its value (sign included) begins, and its end.
+    struct CallArg {
+        uint32_t begin = 0;
+        uint32_t name_end = 0;
+        uint32_t value_begin = 0;
+        uint32_t end = 0;
+        bool sign = false;
+        bool changed = false;  // again_call: its text is not the last line's
+    };
+    // The arguments call_statement read, while each is plain (call_plain).
+    std::vector<CallArg> call_args;
+    bool call_plain = false;
+    // The last line filled into `block` when it is a CALL or MODIN at the
+    // line's start with plain arguments only, and nothing else: `text` is
+    // the line, `args` where its arguments lie.
+    struct Again {
+        const Block* block = nullptr;
+        std::string text;
+        uint32_t keyword_end = 0;
+        uint32_t name_begin = 0;
+        uint32_t head = 0;  // where the name ends
+        ByteRange range;    // the block's range when it was filled
+        size_t exprs = 0;
+        std::vector<CallArg> args;
+    };
+    Again again;
+    uint64_t again_lines = 0;
+    std::vector<double> digits;  // again_call's scratch: each argument's digits' value
+    // After a line was parsed whole into b: keeps it as `again` when it is
+    // such a call line, forgets `again` otherwise.
+    void keep_call(bool ok);
+    // When `line` is `again`'s line but for the text of some argument values
+    // (and the blanks between arguments), each still a plain number: updates `out`, the block `again` was filled
+    // into and that nobody changed since, to the block of `line` in place.
+    // False (with `out` to be parsed again) for any other line.
+    bool again_call(const LineRef& line, Block& out);
 
     // --- Prefix: sequence and program names ----------------------------------------
 

@@ -768,3 +768,110 @@ TEST_CASE("fast front end: parse_moves reads random plain moves, with or without
     CHECK(partial > 30000);
     CHECK(compare_plain_move("random", text) == "");
 }
+
+namespace {
+
+// Reads `text` line by line with one parser into one block, as the walk does,
+// and each line alone with the tree-sitter front end: the blocks must be
+// equal, the call lines updated in place (again_lines) included.
+std::string compare_again(const std::string& name, const std::string& text, uint64_t* again = nullptr) {
+    FastLineParser parser;
+    Block kept, alone;
+    std::string report;
+    for_each_line(text, [&](const LineRef& line) {
+        parser.parse(line, kept);
+        parse_line_tree_sitter(line, alone);
+        if (!(kept == alone) && report.size() < 4000)
+            report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) +
+                      "'\n-- tree-sitter:\n" + dump_block(alone) + "-- kept:\n" + dump_block(kept);
+    });
+    if (again) *again += parser.again_lines();
+    return report;
+}
+
+// A number as posts and people write it: a sign or not, digits before and
+// after a point or not, sometimes something else.
+std::string random_value(std::mt19937& rng) {
+    std::string v;
+    switch (rng() % 8) {
+        case 0: v = "-"; break;
+        case 1: v = "+"; break;
+        case 2: case 3: v = "-"; break;
+        default: break;
+    }
+    const unsigned shape = rng() % 12;
+    const auto digits = [&](unsigned count) {
+        for (unsigned i = 0; i < count; ++i) v += static_cast<char>('0' + rng() % 10);
+    };
+    if (shape < 6) {
+        digits(1 + rng() % 3);
+        v += '.';
+        digits(rng() % 4);
+    } else if (shape < 8) {
+        digits(1 + rng() % 4);
+    } else if (shape == 8) {
+        v += '.';
+        digits(1 + rng() % 3);
+    } else if (shape == 9) {
+        digits(16 + rng() % 2);  // past what a plain argument holds
+    } else if (shape == 10) {
+        v += "VC" + std::to_string(rng() % 100);
+    } else {
+        digits(2);
+        v += rng() % 2 ? "X" : ".5.";
+    }
+    return v;
+}
+
+}  // namespace
+
+TEST_CASE("fast front end: a CALL that repeats the one before it but for its values gives the tree-sitter block") {
+    // Lines of a few call heads and arguments, each line most often the one
+    // before it with some values changed, else with an argument left out,
+    // added or moved, other blanks, a comment, a repeat count, a sequence
+    // name, or another line between.
+    std::mt19937 rng(20261205);
+    const std::vector<std::string> heads = {"CALL OZAGR", "CALL OZAGRX", "MODIN OG87C", "call ozagr", "CALL  OZAGR"};
+    const std::vector<std::string> names = {"PX", "PY", "PR", "PZ", "PI", "PJ", "PF", "PFA", "px", "PS"};
+    std::string head = heads[0];
+    std::vector<std::pair<std::string, std::string>> args = {{"PX", "1."}, {"PY", "-2."}};
+    std::string text;
+    for (int i = 0; i < 20000; ++i) {
+        const unsigned change = rng() % 40;
+        if (change == 0) head = heads[rng() % heads.size()];
+        else if (change == 1 && args.size() > 1) args.erase(args.begin() + static_cast<long>(rng() % args.size()));
+        else if (change == 2 && args.size() < 12) args.emplace_back(names[rng() % names.size()], random_value(rng));
+        else if (change == 3 && args.size() > 1) std::swap(args.front(), args.back());
+        for (auto& [arg, value] : args) {
+            if (rng() % 4 != 0) continue;
+            if (rng() % 4 == 0) {
+                value = random_value(rng);
+            } else {  // another number, its sign kept
+                const bool sign = !value.empty() && (value[0] == '-' || value[0] == '+');
+                value = (sign ? value.substr(0, 1) : "") + std::to_string(rng() % 1000) + (rng() % 2 ? "." : ".25");
+            }
+        }
+        std::string line = head;
+        const unsigned extra = rng() % 60;
+        for (const auto& [arg, value] : args) {
+            line += extra == 0 ? "\t" : extra == 1 ? "  " : " ";
+            line += arg + (extra == 2 ? " = " : "=") + value;
+        }
+        if (extra == 3) line += " (HOLE 3)";
+        if (extra == 4) line += " Q2";
+        if (extra == 5) line += "  ";
+        if (extra == 6) line = "N" + std::to_string(i) + " " + line;
+        if (extra == 7) line = "/" + line;
+        if (extra == 8) text += "G0 X1. Y2.\n";
+        text += line + (i % 9 == 0 ? "\r\n" : "\n");
+    }
+    uint64_t again = 0;
+    CHECK(compare_again("calls", text, &again) == "");
+    CHECK(again > 6000);
+}
+
+TEST_CASE("fast front end: one block taking every line of the test programs gives the tree-sitter blocks") {
+    uint64_t again = 0;
+    on_test_programs(20261206, [&](const std::string& name, const std::string& text) { return compare_again(name, text, &again); });
+    CHECK(again > 0);
+}
