@@ -569,7 +569,15 @@ void Walk::leave(const Block& b, const LineRef& line) {
 }
 
 const MacroCall* Walk::resolve(const Block& b, const ModalState& before) const {
+    if (&b == resolved_block_ && parser_.last_again() && parser_.fills() == resolved_fills_) {
+        resolve_call_again(b, before, call_);
+        ++stats_.calls_again;
+        return &call_;
+    }
+    resolved_block_ = nullptr;
     if (!resolve_call(b, before, config_.catalog, &arg_links_, call_)) return nullptr;
+    resolved_block_ = &b;
+    resolved_fills_ = parser_.fills();
     MacroCall* call = &call_;
     if (options_.summaries && call->kind == CallKind::Call && !call->spec && !call->name.empty()) {
         // Asked once per name and file: a posted program calls the same few names again and again.

@@ -420,6 +420,11 @@ private:
     mutable std::map<std::string, const SubprogramSummary*, std::less<>> summary_of_;
     mutable ArgLinks arg_links_;  // the last call's argument links (link_arg_specs)
     mutable MacroCall call_;      // the block's call (resolve), its storage kept from block to block
+    // The block call_ was resolved from, and parser_.fills() then: a CALL line
+    // the parser updated that block to since (and nothing else) keeps call_
+    // but for its values (resolve_call_again).
+    mutable const Block* resolved_block_ = nullptr;
+    mutable uint64_t resolved_fills_ = 0;
     MacroEndMemo macro_ends_;     // the last macro call's end point (apply_block; a cache, not state)
     const SubprogramSummary* local_summary(const std::string& name) const;  // of a program of this file
     mutable std::vector<std::pair<std::string, const SubprogramSummary*>> local_used_;  // FrozenWalk::local_used

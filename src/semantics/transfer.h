@@ -33,6 +33,11 @@ std::optional<MacroCall> resolve_call(const Block& block, const ModalState& befo
 // the block invokes nothing.
 bool resolve_call(const Block& block, const ModalState& before, const Catalog& catalog, ArgLinks* links,
                   MacroCall& call);
+// `call` made again for `block`, when it was resolved from that block and
+// the block changed since only in the values and ranges of its words, as a
+// CALL line that repeats the line before it changes it
+// (FastLineParser::last_again): the arguments' values and the name's range.
+void resolve_call_again(const Block& block, const ModalState& before, MacroCall& call);
 
 // The state that flows from a block to its successors: `after` (apply_block's
 // result), merged with `before` when the block may be skipped (BLOCK SKIP on

@@ -236,6 +236,15 @@ bool resolve_call(const Block& b, const ModalState& before, const Catalog& catal
     return true;
 }
 
+void resolve_call_again(const Block& b, const ModalState& before, MacroCall& call) {
+    if (const Statement* st = b.statements.empty() ? nullptr : &b.statements[0]) call.name_range = st->name_range;
+    for (auto& a : call.args) {
+        a.value = {};
+        if (a.word)
+            if (auto v = word_value(b, *a.word, before)) a.value = Val<double>::of(*v);
+    }
+}
+
 std::optional<MacroCall> resolve_call(const Block& b, const ModalState& before, const Catalog& catalog,
                                       ArgLinks* links) {
     MacroCall call;

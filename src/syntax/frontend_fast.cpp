@@ -541,8 +541,11 @@ bool FastLineParser::Impl::run(const LineRef& line, Block& out, bool moves) {
         plain = false;
         partial = false;
         ++again_lines;
+        again_last = true;
         return true;
     }
+    again_last = false;
+    ++fills;
     depth = 0;
     exprs_used = 0;
     words_used = 0;
@@ -769,6 +772,8 @@ bool FastLineParser::parse_moves(const LineRef& line, Block& out) {
 bool FastLineParser::last_partial() const { return impl_->partial; }
 
 uint64_t FastLineParser::again_lines() const { return impl_->again_lines; }
+bool FastLineParser::last_again() const { return impl_->again_last; }
+uint64_t FastLineParser::fills() const { return impl_->fills; }
 
 bool FastLineParser::plain_move(const LineRef& line, PlainMove& out) {
     impl_->start(line);

@@ -121,6 +121,12 @@ public:
     // the same block before them but for some argument values (and blanks):
     // that block was updated in place (frontend_fast_again.cpp).
     uint64_t again_lines() const;
+    // Whether the last line parsed was such a line: its block differs from
+    // what it held before only in its words' values and ranges (and its own
+    // line and range). So long as fills() has not changed, the parser filled
+    // no block in any other way since.
+    bool last_again() const;
+    uint64_t fills() const;
     uint64_t fallback_lines() const { return fallback_lines_; }
 
 private:

@@ -217,6 +217,8 @@ struct FastLineParser::Impl {
     };
     Again again;
     uint64_t again_lines = 0;
+    bool again_last = false;  // the last line was again_call's
+    uint64_t fills = 0;       // the lines run() parsed whole (not again_call's)
     std::vector<double> digits;  // again_call's scratch: each argument's digits' value
     // After a line was parsed whole into b: keeps it as `again` when it is
     // such a call line, forgets `again` otherwise.

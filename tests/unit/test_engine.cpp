@@ -616,6 +616,77 @@ TEST_CASE("engine: numbered moves are checked from their values, their names sti
     CHECK(st.value_blocks > static_cast<uint64_t>(named_moves) * 7 / 10);  // all but the loop's
 }
 
+// A posted program's macro calls: the same call line after line with other
+// values (signs that come and go included), now and then other arguments,
+// another macro, a MODIN and its positioning blocks, G91, a variable, a
+// sequence name, and a loop around some of them.
+std::string repeated_calls_program(std::mt19937& rng) {
+    const std::vector<std::pair<std::string, std::vector<std::string>>> macros = {
+        {"CALL OZAGR", {"PX", "PY", "PR", "PZ", "PI", "PJ", "PF", "PFA", "PFB", "PP", "PS"}},
+        {"CALL OG87C", {"PX", "PY", "PZ", "PR", "PI", "PD", "PF"}},
+        {"CALL OKYOX", {"PX", "PY", "PR", "PZ", "PI", "PJ", "PD", "PF", "PS"}},
+        {"CALL O1234", {"PX", "PY", "PA"}},
+    };
+    const auto number = [&] {
+        const int v = static_cast<int>(rng() % 120) - 60;
+        return std::to_string(v) + (rng() % 3 ? "." : ".5");
+    };
+    std::string text = "O1000\nG15 H1\nT1 M6\nG0 G90 X0 Y0\nG56 Z50. H1\nS600 M3\nVC1=0\n";
+    size_t m = 0;
+    std::vector<std::string> values(11);
+    for (auto& v : values) v = number();
+    size_t args = macros[m].second.size();
+    bool loop = false;
+    for (int i = 0; i < 400; ++i) {
+        const unsigned r = rng() % 60;
+        if (r == 0) m = rng() % macros.size();
+        if (r <= 1) args = 1 + rng() % macros[m].second.size();
+        if (r == 2) text += "G91\n";
+        if (r == 3) text += "G90\n";
+        if (r == 4) text += "VC1=VC1+1\n";
+        if (r == 5) text += "G0 X10. Y-5.\n";
+        if (r == 6 && !loop) {
+            text += "VC2=0\nWHILE [VC2 LT 2] DO 1\n";
+            loop = true;
+        } else if ((r == 7 || i == 399) && loop) {
+            text += "VC2=VC2+1\nEND 1\n";
+            loop = false;
+        }
+        if (r == 8 && !loop) {
+            text += "MODIN OZAGR PR=5. PZ=-20. PI=6. PJ=1.5 PF=50\nX10. Y10.\nX-10. Y" + number() + "\nMODOUT\n";
+        }
+        for (auto& v : values)
+            if (rng() % 3 == 0) v = number();
+        std::string line = r == 9 ? "N" + std::to_string(i) + " " + macros[m].first : macros[m].first;
+        for (size_t k = 0; k < args; ++k) line += " " + macros[m].second[k] + "=" + values[k];
+        if (r == 10) line += " PX=VC1";
+        text += line + "\n";
+    }
+    return text + "G0 Z50.\nM30\n";
+}
+
+TEST_CASE("engine: a call that repeats the one before but for its values gives the reference's result") {
+    // The parser updates such a line's block in place and the walk takes its
+    // call from the one before (resolve_call_again).
+    Config config = with_travel(-40);
+    std::mt19937 rng(1205);
+    uint64_t again = 0;
+    std::map<std::string, int> seen;
+    for (int i = 0; i < 12; ++i) {
+        const std::string text = repeated_calls_program(rng);
+        const std::string name = "calls" + std::to_string(i) + ".min";
+        EngineStats st;
+        compare_checks(name, text, config, {}, &st);
+        compare_checks(name, text, Config{});
+        again += st.calls_again;
+        AnalysisOptions options;
+        options.fold = 0;
+        for (const auto& d : check_text(name, text, config, options).diagnostics) ++seen[d.rule];
+    }
+    CHECK(again > 2000);
+    for (const std::string id : {"OSP101", "OSP109", "OSP301", "OSP302"}) CHECK_MESSAGE(seen[id] > 0, id);
+}
+
 TEST_CASE("columns: a finding that starts inside a multi-byte character does not shift the next one") {
     // Bytes of a Shift-JIS comment read as UTF-8: the error ranges of the line
     // start inside sequences; the columns of a later range on the same line
