@@ -12,6 +12,8 @@
 // model, it gives up and the line goes to the tree-sitter front end.
 #include "syntax/frontend_fast.h"
 
+#include <cstring>
+
 #include "syntax/frontend.h"
 #include "syntax/frontend_fast_parser.h"
 
@@ -798,8 +800,17 @@ bool FastLineParser::plain_call(const LineRef& line) {
 }
 
 uint32_t FastLineParser::call_head_end(const LineRef& line) {
+    // A posted program calls the same macro line after line: the same bytes
+    // up to the name's end, and a blank after them, end there again.
+    const std::string& last = impl_->last_head;
+    const std::string_view text = line.text;
+    if (!last.empty() && text.size() > last.size() && is_blank(text[last.size()]) &&
+        std::memcmp(text.data(), last.data(), last.size()) == 0)
+        return static_cast<uint32_t>(last.size());
     impl_->start(line);
-    return impl_->call_head();
+    const uint32_t head = impl_->call_head();
+    impl_->last_head.assign(text.data(), head);
+    return head;
 }
 
 bool FastLineParser::parse(const LineRef& line, Block& out) {

@@ -217,6 +217,7 @@ struct FastLineParser::Impl {
     };
     Again again;
     uint64_t again_lines = 0;
+    std::string last_head;  // the line's start up to the end of the name call_head_end found last, if it did
     bool again_last = false;  // the last line was again_call's
     uint64_t fills = 0;       // the lines run() parsed whole (not again_call's)
     std::vector<double> digits;  // again_call's scratch: each argument's digits' value

@@ -121,8 +121,8 @@ bool candidate_inside_line(const char* p, const char* e) {
     const __m128i fold = _mm_set1_epi8(0x20);
     const __m128i o = _mm_set1_epi8('o'), le = _mm_set1_epi8('e'), t = _mm_set1_epi8('t'), w = _mm_set1_epi8('w');
     const __m128i n = _mm_set1_epi8('n'), i = _mm_set1_epi8('i'), f = _mm_set1_epi8('f');
-    for (; e - p >= 16; p += 16) {
-        const __m128i l = _mm_or_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), fold);
+    const auto chunk = [&](const char* at) {
+        const __m128i l = _mm_or_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(at)), fold);
         const __m128i any = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(l, o), _mm_cmpeq_epi8(l, le)),
                                          _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(l, t), _mm_cmpeq_epi8(l, w)),
                                                       _mm_cmpeq_epi8(l, n)));
@@ -133,6 +133,16 @@ bool candidate_inside_line(const char* p, const char* e) {
             if (fm & ((im << 1) | after_i)) return true;
         }
         after_i = (im >> 15) & 1u;
+        return false;
+    };
+    const char* const begin = p;
+    for (; e - p >= 16; p += 16)
+        if (chunk(p)) return true;
+    // The last bytes of a range of 16 or more: the 16 that end it, read
+    // again in part (they held nothing, `i` and `f` across them included).
+    if (p < e && e - begin >= 16) {
+        after_i = 0;
+        return chunk(e - 16);
     }
 #endif
     for (; p < e; ++p) {
