@@ -85,25 +85,16 @@ bool FastLineParser::Impl::again_call(const LineRef& line, Block& out) {
     while (first < count && g.args[first].end < head) ++first;
     size_t last = count;  // those from `last` on begin, their blank before them too, in the tail
     while (last > first && g.args[last - 1].begin > m - tail) --last;
+    // The arguments between: each read again, from the end of the one
+    // before, with its digits' value where its text changed; nothing is
+    // written before the whole line is read.
     std::vector<CallArg>& now = call_args;
     now.resize(count);
     digits.resize(count);
-    const auto same = [&](size_t k, int64_t by) {
-        const CallArg& old = g.args[k];
-        const Word& w = out.words[k];
-        if (!w.number) return false;
-        const auto at = [&](uint32_t x) { return static_cast<uint32_t>(x + by); };
-        now[k] = {at(old.begin), at(old.name_end), at(old.value_begin), at(old.end), old.sign, false};
-        digits[k] = s[now[k].value_begin] == '-' ? -*w.number : *w.number;
-        return true;
-    };
-    for (size_t k = 0; k < first; ++k)
-        if (!same(k, 0)) return false;
-    for (size_t k = last; k < count; ++k)
-        if (!same(k, shift)) return false;
-    // The arguments between: each read again, from the end of the one before.
     const auto blank = [&](uint32_t i) { return (kClass[static_cast<unsigned char>(s[i])] & kBlankClass) != 0; };
-    uint32_t p = first == 0 ? h : now[first - 1].end;
+    // Whether a value gains or loses its sign: the expressions are made again.
+    bool reshape = out.exprs.size() != g.exprs;
+    uint32_t p = first == 0 ? h : g.args[first - 1].end;
     for (size_t k = first; k < last; ++k) {
         const CallArg& old = g.args[k];
         uint32_t q = p;
@@ -123,43 +114,51 @@ bool FastLineParser::Impl::again_call(const LineRef& line, Block& out) {
         unchanged = unchanged && o == old.end;
         CallArg& a = now[k];
         a = {q, q + (old.name_end - old.begin), value, end, old.sign, false};
-        if (unchanged) {
-            const Word& w = out.words[k];
-            if (!w.number) return false;
-            digits[k] = s[value] == '-' ? -*w.number : *w.number;
-        } else {
+        if (!unchanged) {
             // Another value: still a plain number.
             PlainArg r;
             if (!plain_arg<true>(q, r) || r.value_begin != value || r.end != end) return false;
             a.sign = r.digits_begin > value;
-            digits[k] = r.value;
             a.changed = true;
+            digits[k] = r.value;
+            reshape = reshape || a.sign != old.sign;
         }
         p = end;
     }
     // Blanks only, one at least, up to the next argument; blanks only up to
     // the end of the line after the last one.
-    const uint32_t to = last < count ? now[last].begin : n;
+    const uint32_t to = last < count ? static_cast<uint32_t>(g.args[last].begin + shift) : n;
     if (p > to || (last < count && p == to)) return false;
     while (p < to && blank(p)) ++p;
     if (p != to) return false;
     // The words and their expressions, as plain_arg_word makes them: in
     // place while each value keeps its sign or its lack of one (the nodes
     // stay where they are: each argument's number, then its sign's node).
-    bool reshape = out.exprs.size() != g.exprs;
-    for (size_t k = 0; k < count && !reshape; ++k) reshape = now[k].sign != g.args[k].sign;
+    // The arguments before `first` and from `last` on are where they were,
+    // moved by `shift` for the latter.
     exprs_used = 0;
     exprs_have = out.exprs.size();
     for (size_t k = 0; k < count; ++k) {
-        CallArg& a = now[k];
+        CallArg& a = g.args[k];
+        if (k >= first && k < last) {
+            a = now[k];
+        } else if (k >= last) {
+            const auto by = [&](uint32_t x) { return static_cast<uint32_t>(x + shift); };
+            a = {by(a.begin), by(a.name_end), by(a.value_begin), by(a.end), a.sign, false};
+        }
         const bool changed = a.changed;
         a.changed = false;
         const uint32_t value = a.value_begin;
         Word& w = out.words[k];
         const ByteRange digits_range = abs(value + (a.sign ? 1 : 0), a.end);
         if (reshape) {
+            double v = digits[k];
+            if (!changed) {
+                if (!w.number) return false;
+                v = s[value] == '-' ? -*w.number : *w.number;
+            }
             ExprNode& num = new_expr(ExprKind::Number, digits_range);
-            num.number = digits[k];
+            num.number = v;
             w.value = last_expr();
             if (a.sign) {
                 ExprNode& un = new_expr(ExprKind::Unary, abs(value, a.end), s[value]);
@@ -189,13 +188,12 @@ bool FastLineParser::Impl::again_call(const LineRef& line, Block& out) {
     Statement& st = out.statements[0];
     st.keyword_range = abs(0, g.keyword_end);
     st.name_range = abs(g.name_begin, h);
-    st.range = abs(0, now.back().end);
+    st.range = abs(0, g.args.back().end);
     out.line = line.line;
     out.line_start = line.start;
     out.range = {line.start, line.start + n};
     g.text.assign(s, n);
     g.range = out.range;
-    g.args.swap(now);
     return true;
 }
 
