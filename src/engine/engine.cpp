@@ -617,7 +617,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         read_whole(b, line);
         const MacroCall* call = resolve(b, unknown_);
         ModalState after = unknown_;
-        apply_block(b, call, config_.catalog, after, &macro_ends_);
+        apply_block(b, call, config_.catalog, after, &macro_ends_, &call_transfers_);
         check(BlockView{b, unknown_, after, call, false}, line, false);
         near_ = false;
         return;
@@ -637,7 +637,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     read_whole(b, line);
     const MacroCall* call = resolve(b, *A_);
     *B_ = *A_;
-    apply_block(b, call, config_.catalog, *B_, &macro_ends_);
+    apply_block(b, call, config_.catalog, *B_, &macro_ends_, &call_transfers_);
     near_ = false;
     if (rules) check(BlockView{b, *A_, *B_, call, true}, line, false);
     leave(b, line);

@@ -426,6 +426,7 @@ private:
     mutable const Block* resolved_block_ = nullptr;
     mutable uint64_t resolved_fills_ = 0;
     MacroEndMemo macro_ends_;     // the last macro call's end point (apply_block; a cache, not state)
+    CallTransferMemo call_transfers_;  // the last plain call apply_block applied (a cache, not state)
     const SubprogramSummary* local_summary(const std::string& name) const;  // of a program of this file
     mutable std::vector<std::pair<std::string, const SubprogramSummary*>> local_used_;  // FrozenWalk::local_used
     bool fingerprints_ = false;

@@ -713,25 +713,29 @@ void apply_assignments(const BlockFacts& f, ModalState& s) {
 
 }  // namespace
 
-void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, ModalState& s, MacroEndMemo* ends) {
-    if (b.kind != LineKind::Block) return;
-    s.clear_one_shots();
-    const ModalState before = s;  // values of the block are read in the state before it
-    const BlockFacts f(b, call, before);
-    s.ncyl = b.statement(StmtKind::Ncyl) != nullptr;
-    s.noex = b.statement(StmtKind::Noex) != nullptr;
-    s.g100 = has(f.gs, 100);
+namespace {
 
-    bool positions_unknown = apply_g_codes(f, s);
-    apply_modal_words(f, s);
-    apply_m_codes(f, s);
-    const int cycle_code = apply_cycle_slot(f, catalog, s, positions_unknown);
-    apply_tool_position(f, cycle_code, positions_unknown, s);
-    apply_statements(f, catalog, s);
-    apply_assignments(f, s);
+// A CALL of a catalog macro alone on its block with `Pname=value` words
+// only: what apply_block does with it depends on the state before it, the
+// macro, PS and whether PF is given, and its end point (CallTransferMemo).
+bool plain_catalog_call(const Block& b, const MacroCall* call) {
+    if (!call || call->kind != CallKind::Call || !call->spec || call->spec->kind != SpecKind::Macro || call->summary)
+        return false;
+    if (b.program_name || b.sequence || b.block_delete || !b.assignments.empty() || !b.errors.empty() ||
+        b.statements.size() != 1 || b.statements[0].kind != StmtKind::Call || b.statements[0].name != call->name)
+        return false;
+    for (const auto& w : b.words)
+        if (w.address.size() < 2 || w.address[0] != 'P') return false;
+    return true;
+}
+
+// The end of apply_block: the end point of a catalog macro's run, and what a
+// user subprogram leaves behind.
+void finish_block(const Block& b, const ModalState& before, const MacroCall* call, bool runs_program,
+                  MacroEndMemo* ends, ModalState& s) {
     // A catalog macro's action sequence says where it leaves the cycle axis;
     // the other axes stay unknown after it.
-    if (f.runs_program)
+    if (runs_program)
         if (auto end = macro_end(b, before, s, call, ends))
             if (Val<double>* ax = s.axis_ref(end->first)) *ax = Val<double>::of(end->second);
     // What a user subprogram this block calls leaves behind; the modes it sets
@@ -749,6 +753,53 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         if (m.kind == ModeEffect<int>::Kind::Set) s.g60_from.set(m.value == 60, b.line, call->name_range);
         else if (m.kind == ModeEffect<int>::Kind::Unknown) s.g60_from.clear();
     }
+}
+
+}  // namespace
+
+void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, ModalState& s, MacroEndMemo* ends,
+                 CallTransferMemo* calls) {
+    if (b.kind != LineKind::Block) return;
+    s.clear_one_shots();
+    const bool plain = calls && plain_catalog_call(b, call);
+    if (plain && calls->spec == call->spec) {
+        // The position is not part of what the block reads but for its end point.
+        CallTransferMemo& m = *calls;
+        m.before.x = s.x;
+        m.before.y = s.y;
+        m.before.z = s.z;
+        const MacroArg* ps = call->arg("PS");
+        if (ArgSeen::of(ps) == m.ps && (call->arg("PF") != nullptr) == m.pf && m.before == s) {
+            s = m.partial;
+            ++m.hits;
+            finish_block(b, m.before, call, true, ends, s);
+            return;
+        }
+    }
+    const ModalState before = s;  // values of the block are read in the state before it
+    const BlockFacts f(b, call, before);
+    s.ncyl = b.statement(StmtKind::Ncyl) != nullptr;
+    s.noex = b.statement(StmtKind::Noex) != nullptr;
+    s.g100 = has(f.gs, 100);
+
+    bool positions_unknown = apply_g_codes(f, s);
+    apply_modal_words(f, s);
+    apply_m_codes(f, s);
+    const int cycle_code = apply_cycle_slot(f, catalog, s, positions_unknown);
+    apply_tool_position(f, cycle_code, positions_unknown, s);
+    apply_statements(f, catalog, s);
+    apply_assignments(f, s);
+    if (calls) {
+        calls->spec = nullptr;
+        if (plain && f.runs_program) {
+            calls->spec = call->spec;
+            calls->ps = ArgSeen::of(call->arg("PS"));
+            calls->pf = call->arg("PF") != nullptr;
+            calls->before = before;
+            calls->partial = s;
+        }
+    }
+    finish_block(b, before, call, f.runs_program, ends, s);
 }
 
 bool is_plain_move_block(const Block& b) {

@@ -20,10 +20,26 @@ struct MacroEndMemo;
 // defaults); a subprogram starts with its caller's state, which is unknown.
 ModalState initial_state(const Config& config, bool subprogram);
 
+// The last plain CALL of a catalog macro apply_block applied (a CALL
+// statement alone on its block, `Pname=value` words only, no subprogram
+// summary): the macro, what the block reads of its arguments before the
+// macro's end point (PS, and whether PF is given), the state before the
+// block and the state before the end point was set. A call of the same macro
+// that agrees on these, from the same state but for the position, leaves
+// the same state but for the end point (macro_end works that out again).
+struct CallTransferMemo {
+    const MacroSpec* spec = nullptr;  // nullptr: none remembered
+    ArgSeen ps;
+    bool pf = false;
+    ModalState before, partial;
+    uint64_t hits = 0;  // the calls applied from it
+};
+
 // Applies one block to the state. `ends`, when set, is the walk's memo of
-// the last macro call's end point (macro_end).
+// the last macro call's end point (macro_end); `calls`, of the last plain
+// call (CallTransferMemo). Both are caches: the state is the same without.
 void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state,
-                 MacroEndMemo* ends = nullptr);
+                 MacroEndMemo* ends = nullptr, CallTransferMemo* calls = nullptr);
 
 // Resolves the macro or subprogram a block invokes, with evaluated arguments
 // (`links`: see link_arg_specs).

@@ -35,6 +35,7 @@
 #include "rules/registry.h"
 #include "programs.h"
 #include "reference.h"
+#include "semantics/motion.h"
 #include "semantics/transfer.h"
 #include "syntax/frontend.h"
 #include "syntax/frontend_fast.h"
@@ -645,6 +646,7 @@ std::string repeated_calls_program(std::mt19937& rng) {
         if (r == 3) text += "G90\n";
         if (r == 4) text += "VC1=VC1+1\n";
         if (r == 5) text += "G0 X10. Y-5.\n";
+        if (r == 11) text += "G1 X5. Y5. F300\n";
         if (r == 6 && !loop) {
             text += "VC2=0\nWHILE [VC2 LT 2] DO 1\n";
             loop = true;
@@ -685,6 +687,43 @@ TEST_CASE("engine: a call that repeats the one before but for its values gives t
     }
     CHECK(again > 2000);
     for (const std::string id : {"OSP101", "OSP109", "OSP301", "OSP302"}) CHECK_MESSAGE(seen[id] > 0, id);
+}
+
+TEST_CASE("transfer: a plain call applied from CallTransferMemo leaves the state apply_block leaves without it") {
+    // Every block of the corpus and of programs of repeated calls, in file
+    // order, applied twice: with the walk's memos and without; the states
+    // must stay equal block after block. As in the walk, a plain move is
+    // applied by apply_plain_move, which leaves the memo as it was: the
+    // next call starts from another state than the last one.
+    Config config;
+    std::mt19937 rng(1206);
+    std::vector<std::pair<std::string, std::string>> programs;
+    for (int i = 0; i < 12; ++i) programs.emplace_back("calls" + std::to_string(i), repeated_calls_program(rng));
+    for (const auto& f : corpus_files()) programs.emplace_back(f.string(), read_all(f));
+    uint64_t hits = 0;
+    for (const auto& [name, text] : programs) {
+        const ProgramFile file = parse_program_file(name, text);
+        ModalState plain = initial_state(config, false), memo = plain;
+        MacroEndMemo ends;
+        CallTransferMemo calls;
+        ArgLinks links;
+        for (const Block& b : file.blocks) {
+            if (is_plain_move_block(b) && plain_move_state(memo)) {
+                apply_plain_move(b, plain);
+                apply_plain_move(b, memo);
+                continue;
+            }
+            const auto call = resolve_call(b, plain, config.catalog, &links);
+            apply_block(b, call ? &*call : nullptr, config.catalog, plain);
+            apply_block(b, call ? &*call : nullptr, config.catalog, memo, &ends, &calls);
+            if (!(plain == memo)) {
+                FAIL_CHECK(name << " line " << b.line << ": the states differ");
+                break;
+            }
+        }
+        hits += calls.hits;
+    }
+    CHECK(hits > 2000);
 }
 
 TEST_CASE("columns: a finding that starts inside a multi-byte character does not shift the next one") {
