@@ -220,7 +220,7 @@ public:
             reported = true;
             if (c->kind == CallKind::ModinPositioning) reported_.insert({c->modin_line, i});
         }
-        if (memo && !reported && !outside_memo) quiet_.remember(*spec, *c, plane);
+        if (memo && !reported && !outside_memo) quiet_.remember(*spec, *c, plane, [](const MacroSpec& s, auto&& add) { macro::relation_args(s, add); });
     }
 
     bool same_as(const CycleAxisOrder& o) const { return reported_ == o.reported_; }
@@ -261,52 +261,11 @@ private:
     }
     std::set<std::pair<uint32_t, size_t>> reported_;
 
-    // The last call found quiet without reading the current position: what
-    // the check read of it is the macro, the kind of call, the plane, and of
-    // each argument a relation or its condition names whether it is given
-    // and its value (a relation names arguments of its own macro only: the
-    // catalog refuses others). A call that agrees on all of them is quiet
-    // too: a posted program calls a macro thousands of times, with the
-    // position changed and the cycle-axis points the same. Not state:
-    // same_as leaves it out.
-    struct Quiet {
-        const MacroSpec* spec = nullptr;
-        CallKind kind = CallKind::None;
-        std::optional<Plane> plane;
-        std::vector<size_t> named;  // the arguments the relations of `spec` name
-        std::vector<ArgSeen> args;  // of each of them
-        bool same(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p) const {
-            if (spec != &s || kind != c.kind || plane != p) return false;
-            for (size_t i = 0; i < named.size(); ++i)
-                if (!(ArgSeen::of(macro::given(c, s.args[named[i]])) == args[i])) return false;
-            return true;
-        }
-        void remember(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p) {
-            if (spec != &s) {
-                named.clear();
-                std::vector<bool> in(s.args.size(), false);
-                const auto add = [&](int i) {
-                    if (i < 0 || in[static_cast<size_t>(i)]) return;
-                    in[static_cast<size_t>(i)] = true;
-                    named.push_back(static_cast<size_t>(i));
-                };
-                RelationSides local;
-                for (size_t i = 0; i < s.relations.size(); ++i) {
-                    const RelationSides& sides = macro::sides_of(s, i, local);
-                    for (int k : sides.left_args) add(k);
-                    for (int k : sides.right_args) add(k);
-                    for (const ConditionAtom* at : s.relations[i].when.atoms())
-                        if (const ArgSpec* a = at->arg.empty() ? nullptr : s.arg(at->arg))
-                            add(static_cast<int>(a - s.args.data()));
-                }
-            }
-            spec = &s;
-            kind = c.kind;
-            plane = p;
-            args.clear();
-            for (size_t i : named) args.push_back(ArgSeen::of(macro::given(c, s.args[i])));
-        }
-    } quiet_;
+    // The last call found quiet without reading the current position
+    // (macro::QuietCall): what the check reads of a call is the macro, the
+    // kind of call, the plane, and of each argument a relation or its
+    // condition names whether it is given and its value.
+    macro::QuietCall quiet_;
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 #include <string_view>
@@ -57,6 +58,65 @@ inline const RelationSides& sides_of(const MacroSpec& spec, size_t i, RelationSi
     local = relation_sides(spec.relations[i], spec);
     return local;
 }
+
+// Calls `add(index)` for each argument of `spec` a relation or its
+// condition names (a relation names arguments of its own macro only: the
+// catalog refuses others); an index may come more than once.
+template <class Add>
+void relation_args(const MacroSpec& spec, Add&& add) {
+    RelationSides local;
+    for (size_t i = 0; i < spec.relations.size(); ++i) {
+        const RelationSides& sides = sides_of(spec, i, local);
+        for (int k : sides.left_args)
+            if (k >= 0) add(static_cast<size_t>(k));
+        for (int k : sides.right_args)
+            if (k >= 0) add(static_cast<size_t>(k));
+        for (const ConditionAtom* at : spec.relations[i].when.atoms())
+            if (const ArgSpec* a = at->arg.empty() ? nullptr : spec.arg(at->arg))
+                add(static_cast<size_t>(a - spec.args.data()));
+    }
+}
+
+// The last call a rule found nothing to say about, by all the rule read of
+// it: the macro, the kind of call, the plane, and of each argument the rule
+// reads (`names`, listed once per macro) whether it is given and its value.
+// A call that agrees on all of them has nothing to say either: a posted
+// program calls a macro thousands of times with only its position changed.
+// A cache, not state: a rule's same_as leaves it out.
+class QuietCall {
+public:
+    bool same(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p) const {
+        if (spec_ != &s || kind_ != c.kind || plane_ != p) return false;
+        for (size_t i = 0; i < named_.size(); ++i)
+            if (!(ArgSeen::of(c.given(s.args[named_[i]])) == args_[i])) return false;
+        return true;
+    }
+    // `names(s, add)` calls add(index) for each argument the rule reads.
+    template <class Names>
+    void remember(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p, Names&& names) {
+        if (spec_ != &s) {
+            named_.clear();
+            std::vector<bool> in(s.args.size(), false);
+            names(s, [&](size_t i) {
+                if (i >= in.size() || in[i]) return;
+                in[i] = true;
+                named_.push_back(i);
+            });
+        }
+        spec_ = &s;
+        kind_ = c.kind;
+        plane_ = p;
+        args_.clear();
+        for (size_t i : named_) args_.push_back(ArgSeen::of(c.given(s.args[i])));
+    }
+
+private:
+    const MacroSpec* spec_ = nullptr;
+    CallKind kind_ = CallKind::None;
+    std::optional<Plane> plane_;
+    std::vector<size_t> named_;  // the arguments the rule reads of spec_
+    std::vector<ArgSeen> args_;  // of each of them
+};
 
 // The argument as given (by its name or one of its aliases), or nullptr.
 inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) { return c.given(a); }
