@@ -166,7 +166,7 @@ uint32_t FastLineParser::Impl::call_statement(StmtKind kind, uint32_t p, uint32_
     uint32_t end = r;
     uint32_t pos = r;
     if (outline && plain_call_args(r)) return n;
-    // Whether every argument is plain, as kept_call wants them.
+    // Whether every argument is plain, as keep_call wants them.
     call_plain = index == 0 && p == 0;
     call_args.clear();
     while (true) {
