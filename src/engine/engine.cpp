@@ -206,9 +206,10 @@ void Walk::walk_blocks() {
         converge_if_due();
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
-        if (rules_idle() && skim_run(kRunLines, flow_.end())) continue;
-        if (quiet_run(kRunLines, flow_.end())) continue;
-        const Next next = read_for_rules(b, line);
+        const bool move = may_be_move();
+        if (move && rules_idle() && skim_run(kRunLines, flow_.end())) continue;
+        if (quiet_run(kRunLines, flow_.end(), move)) continue;
+        const Next next = read_for_rules(b, line, move);
         if (next == Next::End) break;
         if (next == Next::Checked) continue;
         uint32_t extent = 0;
@@ -432,16 +433,17 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
             visit(b, line, mode);
             continue;
         }
-        if (rules_idle())
+        const bool move = may_be_move();
+        if (move && rules_idle())
             if (const uint32_t k = skim_run(kRunLines, end)) {
                 index += k - 1;
                 continue;
             }
-        if (const uint32_t k = quiet_run(kRunLines, end)) {
+        if (const uint32_t k = quiet_run(kRunLines, end, move)) {
             index += k - 1;
             continue;
         }
-        const Next next = read_for_rules(b, line);
+        const Next next = read_for_rules(b, line, move);
         if (next == Next::End) break;
         if (next == Next::Checked) continue;
         visit(b, line, mode);
@@ -694,8 +696,18 @@ bool Walk::apply_plain_values(const LineRef& line, bool names) {
 
 // The next line of the walk with the rules: a plain move checked from its
 // values alone (skim_checked), or its block, read for visit.
-Walk::Next Walk::read_for_rules(Block& b, LineRef& line) {
-    if (!rules_take_values()) return read(b, line, moves_with_rules() && plain_may_apply()) ? Next::Block : Next::End;
+bool Walk::may_be_move() const {
+    const std::string_view text = main_.buffered();
+    size_t i = 0;
+    while (i < text.size() && (text[i] == ' ' || text[i] == '\t')) ++i;
+    if (i == text.size()) return true;  // not read yet
+    const char c = static_cast<char>(text[i] | 0x20);
+    return c != 'c' && c != 'm';
+}
+
+Walk::Next Walk::read_for_rules(Block& b, LineRef& line, bool move) {
+    if (!move || !rules_take_values())
+        return read(b, line, moves_with_rules() && plain_may_apply()) ? Next::Block : Next::End;
     if (!fetch(line)) return Next::End;
     if (skim_checked(line)) return Next::Checked;
     parse(b, line, plain_may_apply());
@@ -812,11 +824,12 @@ bool Walk::rules_quiet(FastLineParser::IntDigits& digits) const {
     return any;
 }
 
-uint32_t Walk::quiet_run(uint32_t max_lines, uint64_t start_limit) {
+uint32_t Walk::quiet_run(uint32_t max_lines, uint64_t start_limit, bool move) {
     if (quiet_wait_ > 0) {
         --quiet_wait_;
         return 0;
     }
+    if (!move) return 0;  // skim_run would stop at once
     FastLineParser::IntDigits digits;
     if (!rules_quiet(digits)) return 0;
     const uint32_t k = skim_run(max_lines, start_limit, digits);

@@ -306,7 +306,13 @@ private:
     bool rules_take_values() const;
     bool skim_checked(const LineRef& line);
     enum class Next { Block, Checked, End };
-    Next read_for_rules(Block& b, LineRef& line);
+    // `move` false: the line is no plain move (may_be_move), not tried as one.
+    Next read_for_rules(Block& b, LineRef& line, bool move);
+    // Whether the next line may be a plain move: false when it starts (after
+    // blanks) with C or M, as a CALL, MODIN or M-code line does; a posted
+    // program's call lines then skip the plain-move shortcuts, which would
+    // each fail on them (a cost of time only).
+    bool may_be_move() const;
     uint32_t skim_run(uint32_t max_lines, uint64_t start_limit,
                       FastLineParser::IntDigits int_digits = {FastLineParser::kAnyDigits, FastLineParser::kAnyDigits,
                                                               FastLineParser::kAnyDigits});
@@ -325,7 +331,8 @@ private:
     // stopped at once before a move that may pass a bound (every move of a
     // program past the travel) is not tried again for the next 1, 3, 7 ...
     // 63 lines (a cost of time only: those lines are checked one by one).
-    uint32_t quiet_run(uint32_t max_lines, uint64_t start_limit);
+    // `move` false: the next line is no plain move (may_be_move).
+    uint32_t quiet_run(uint32_t max_lines, uint64_t start_limit, bool move);
     uint32_t quiet_wait_ = 0, quiet_backoff_ = 0;
     bool run_over_ = false;  // the last skim_run stopped before a move past its digits
     // plain_rules_, plain_named_, plain_digits_, named_values_ and call_rules_ from rules_.
