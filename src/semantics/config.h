@@ -21,6 +21,8 @@ struct TravelLimit {
     double min = 0;
     double max = 0;
 };
+// By axis letter: X, Y, Z.
+using TravelLimits = std::map<char, TravelLimit>;
 
 // One `exclude` pattern, or the `paths` of one `[[per-path]]` table, with the
 // directory its patterns are relative to (that of the file that names them).
@@ -50,7 +52,7 @@ struct Config {
     Units units = Units::Mm;             // [machine] units: when no G20/G21 is in effect
     Plane plane = Plane::G17;            // [machine] plane at program start
     Distance distance = Distance::Absolute;  // [machine] distance at program start (G90)
-    std::map<char, TravelLimit> travel;  // [machine.travel] x/y/z = [min, max]
+    TravelLimits travel;  // [machine.travel] x/y/z = [min, max]
     // [rules] ID = "error" | "warning" | "info" | "off"
     std::map<std::string, std::optional<Severity>> rule_severity;
     bool explain_unknown = false;        // [analysis] explain-unknown: enable OSP303-style notes

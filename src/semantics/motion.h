@@ -22,7 +22,6 @@
 #pragma once
 
 #include <array>
-#include <map>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -164,7 +163,6 @@ std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& conf
 // remembers a call whose points are inside the travel; the transfer step,
 // a call's end point (macro_end). A cache, not state: what is worked out
 // with it is what is worked out without it.
-using TravelLimits = std::map<char, TravelLimit>;
 class MacroAxisMemo {
 public:
     // Whether `v` runs a macro with the same points as the call remembered,
