@@ -577,7 +577,9 @@ const MacroCall* Walk::resolve(const Block& b, const ModalState& before) const {
         return &call_;
     }
     resolved_block_ = nullptr;
+    const uint64_t kept = arg_links_.modin.kept;
     if (!resolve_call(b, before, config_.catalog, &arg_links_, call_)) return nullptr;
+    stats_.modin_calls_kept += arg_links_.modin.kept - kept;
     resolved_block_ = &b;
     resolved_fills_ = parser_.fills();
     MacroCall* call = &call_;

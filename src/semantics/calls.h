@@ -127,6 +127,7 @@ struct ArgLinks {
         std::vector<MacroArg> args;
         std::vector<uint16_t> given_index;
         bool valid = false;
+        uint64_t kept = 0;  // positioning blocks that kept the call before as it was
     } modin;
 };
 

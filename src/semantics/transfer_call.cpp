@@ -160,6 +160,27 @@ bool modin_positioning_call(const Block& b, const ModalState& before, const Cata
     return true;
 }
 
+// The positioning block after another of the same open MODIN, with no G or M
+// word and no statement ("X14.5 Y-20."): `call` still holds the last one's
+// call, which is this one's. False when it does not (the call is then
+// resolved in full).
+bool keeps_modin_call(const Block& b, const ModalState& before, const ArgLinks& links, MacroCall& call) {
+    if (call.kind != CallKind::ModinPositioning || !links.modin.valid || !call.m_codes.empty()) return false;
+    if (!b.statements.empty() || !before.modin.known || !before.modin.value) return false;
+    const ActiveModin& m = *before.modin.value;
+    if (m.line != links.modin.line || call.modin_line != m.line || call.spec != links.modin.spec ||
+        m.shared_args() != links.modin.modin_args || m.macro != links.modin.macro || call.name != m.macro)
+        return false;
+    bool axis = false;
+    for (const auto& w : b.words) {
+        if (w.address.size() != 1) return false;
+        const char a = w.address[0];
+        if (a == 'G' || a == 'M') return false;
+        axis = axis || transfer_detail::is_axis_address(w.address);
+    }
+    return axis;
+}
+
 }  // namespace
 
 void link_arg_specs(MacroCall& call, ArgLinks* last) {
@@ -222,6 +243,10 @@ void MacroCall::clear() {
 
 bool resolve_call(const Block& b, const ModalState& before, const Catalog& catalog, ArgLinks* links,
                   MacroCall& call) {
+    if (links && b.kind == LineKind::Block && keeps_modin_call(b, before, *links, call)) {
+        ++links->modin.kept;
+        return true;
+    }
     call.clear();
     if (b.kind != LineKind::Block) return false;
     const Statement* st = b.statement(StmtKind::Call);

@@ -689,6 +689,132 @@ TEST_CASE("engine: a call that repeats the one before but for its values gives t
     for (const std::string id : {"OSP101", "OSP109", "OSP301", "OSP302"}) CHECK_MESSAGE(seen[id] > 0, id);
 }
 
+// Runs of positioning blocks under MODIN: most take the call of the block
+// before as it was (resolve_call keeps it), others must not: with an M or G
+// word, a statement, a block between them, another MODIN or its arguments
+// evaluated again in a loop.
+std::string modin_runs_program(std::mt19937& rng) {
+    const std::vector<std::string> modins = {
+        "MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500",
+        "MODIN OG87N PR=5. PZ=VC1 PL=4. PI=2. PJ=6. PF=40 PS=500",
+        "MODIN OG87N PR=5. PZ=-45. PL=4. PI=2. PJ=6. PF=40",
+        "MODIN OG87N PR=5. PL=4. PI=2. PJ=6. PF=40",
+        "MODIN O1234 PA=2.",
+    };
+    const auto number = [&] { return std::to_string(static_cast<int>(rng() % 120) - 60) + "."; };
+    std::string text = "O1000\nG15 H1\nT1 M6\nG0 G90 X0 Y0\nG56 Z50. H1\nS600 M3\nVC1=-20.\n";
+    bool loop = false;
+    for (int run = 0; run < 40; ++run) {
+        if (!loop && rng() % 4 == 0) {
+            text += "VC2=0\nWHILE [VC2 LT 2] DO 1\n";
+            loop = true;
+        }
+        text += modins[rng() % modins.size()] + "\n";
+        for (int i = 0, n = 5 + static_cast<int>(rng() % 30); i < n; ++i) {
+            switch (rng() % 24) {
+                case 0: text += "X" + number() + " Y" + number() + " M8\n"; break;
+                case 1: text += "G0 X" + number() + "\n"; break;
+                case 2: text += "G91\nX5.\nG90\n"; break;
+                case 3: text += "VC1=VC1-1.\n"; break;
+                case 4: text += "NCYL X" + number() + "\n"; break;
+                case 5: text += "Z" + number() + "\n"; break;
+                case 6: text += "X[VC1] Y" + number() + "\n"; break;
+                case 7: text += "M9\n"; break;
+                case 8: text += "G17\nX" + number() + "\n"; break;
+                default: text += "X" + number() + " Y" + number() + "\n"; break;
+            }
+        }
+        if (rng() % 3) text += "MODOUT\n";
+        if (loop && rng() % 2 == 0) {
+            text += "MODOUT\nVC1=VC1+1.\nVC2=VC2+1\nEND 1\n";
+            loop = false;
+        }
+    }
+    if (loop) text += "MODOUT\nVC2=VC2+1\nEND 1\n";
+    return text + "MODOUT\nG0 Z50.\nM30\n";
+}
+
+TEST_CASE("engine: a positioning block under MODIN that keeps the call before gives the reference's result") {
+    std::mt19937 rng(1207);
+    uint64_t kept = 0;
+    std::map<std::string, int> seen;
+    const Config config = with_travel(-40);
+    for (int i = 0; i < 12; ++i) {
+        const std::string text = modin_runs_program(rng);
+        const std::string name = "modin" + std::to_string(i) + ".min";
+        EngineStats st;
+        compare_checks(name, text, config, {}, &st);
+        compare_checks(name, text, Config{});
+        kept += st.modin_calls_kept;
+        AnalysisOptions options;
+        options.fold = 0;
+        for (const auto& d : check_text(name, text, config, options).diagnostics) ++seen[d.rule];
+    }
+    CHECK(kept > 1000);
+    for (const std::string id : {"OSP101", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
+}
+
+namespace {
+// What resolve_call gives, field by field (the words by address: the blocks
+// compared are the same block).
+void check_same_call(const MacroCall& got, const MacroCall& want, const std::string& where) {
+    bool same = got.kind == want.kind && got.name == want.name && got.spec == want.spec &&
+                got.modin_line == want.modin_line && got.repeat == want.repeat && got.m_codes == want.m_codes &&
+                got.given_index == want.given_index && got.args.size() == want.args.size() &&
+                got.name_range.begin == want.name_range.begin && got.name_range.end == want.name_range.end;
+    for (size_t k = 0; same && k < got.args.size(); ++k) {
+        const MacroArg &a = got.args[k], &b = want.args[k];
+        same = a.name == b.name && a.word == b.word && a.spec == b.spec && a.value.known == b.value.known &&
+               (!a.value.known || a.value.value == b.value.value);
+    }
+    CHECK_MESSAGE(same, where);
+}
+}  // namespace
+
+TEST_CASE("resolve_call: a positioning block keeps the call before only when it is that block's call") {
+    // Every block of MODIN runs and of the corpus, resolved as the walk does
+    // (one call, the links of the last) and afresh.
+    Config config;
+    std::mt19937 rng(1208);
+    std::vector<std::pair<std::string, std::string>> programs;
+    for (int i = 0; i < 12; ++i) programs.emplace_back("modin" + std::to_string(i), modin_runs_program(rng));
+    for (const auto& f : corpus_files()) programs.emplace_back(f.string(), read_all(f));
+    ArgLinks links;
+    MacroCall walk;
+    for (const auto& [name, text] : programs) {
+        const ProgramFile file = parse_program_file(name, text);
+        ModalState state = initial_state(config, false);
+        for (const Block& b : file.blocks) {
+            const auto fresh = resolve_call(b, state, config.catalog);
+            const bool resolved = resolve_call(b, state, config.catalog, &links, walk);
+            REQUIRE(resolved == fresh.has_value());
+            if (fresh) check_same_call(walk, *fresh, name + " line " + std::to_string(b.line));
+            apply_block(b, fresh ? &*fresh : nullptr, config.catalog, state);
+        }
+    }
+    CHECK(links.modin.kept > 1000);
+
+    // Two MODINs on the same line (as a loop runs it again) with other
+    // arguments: the second's positioning block takes its own.
+    const ProgramFile file = parse_program_file("m.min", "O1\nX1. Y1.\nX2. Y2.\n");
+    ModalState one = initial_state(config, false);
+    ActiveModin m;
+    m.macro = "OG87N";
+    m.line = 7;
+    m.args_to_edit().values["PZ"] = -25;
+    m.args_to_edit().given = {"PZ"};
+    one.modin = Val<std::optional<ActiveModin>>::of(m);
+    ModalState two = one;
+    two.modin.value->args_to_edit().values["PZ"] = -30;
+    const uint64_t kept = links.modin.kept;
+    for (const ModalState* s : {&one, &one, &two, &two, &one}) {
+        REQUIRE(resolve_call(file.blocks[1], *s, config.catalog, &links, walk));
+        const auto fresh = resolve_call(file.blocks[1], *s, config.catalog);
+        check_same_call(walk, *fresh, "PZ " + std::to_string(s == &one ? -25 : -30));
+    }
+    CHECK(links.modin.kept == kept + 2);
+}
+
 TEST_CASE("transfer: a plain call applied from CallTransferMemo leaves the state apply_block leaves without it") {
     // Every block of the corpus and of programs of repeated calls, in file
     // order, applied twice: with the walk's memos and without; the states
