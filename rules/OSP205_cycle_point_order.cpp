@@ -56,11 +56,10 @@ public:
         check_g77_k(ctx, v, *c, axis);
         const bool g17 = v.after.plane.is(Plane::G17);
         const bool incremental = v.after.distance.value == Distance::Incremental;
-        const std::string name = fmt::format("G{}", c->code);
-
         const std::string problem =
             incremental ? incremental_problem(c, axis_name, g17) : absolute_problem(v, c, axis, g17);
         if (problem.empty()) return;
+        const std::string name = fmt::format("G{}", c->code);
         ByteRange where = r_word ? r_word->range : z_word ? z_word->range : !c->start_range.empty() &&
                                                                                   c->start_line == b.line
                                                                               ? c->start_range
