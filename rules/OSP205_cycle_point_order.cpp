@@ -141,8 +141,8 @@ private:
     // R). K equal to R or Z is left alone.
     void check_g77_k(RuleContext& ctx, const BlockView& v, const ActiveCycle& c, char axis) {
         if (c.code != 77 || !c.macro.empty()) return;
-        auto it = c.words.find("K");
-        if (it == c.words.end() || !it->second.known || !c.r.known || !c.z.known || !v.after.distance.known) {
+        auto it = c.words.get().find("K");
+        if (it == c.words.get().end() || !it->second.known || !c.r.known || !c.z.known || !v.after.distance.known) {
             last_k_.reset();
             return;
         }

@@ -49,18 +49,21 @@ void merge_cycle(Val<std::optional<ActiveCycle>>& a, const Val<std::optional<Act
     // Keep the addresses given on both sides; presence is no longer exact when
     // one side has an address the other lacks.
     if (!d.words_known) c.words_known = false;
-    for (auto it = c.words.begin(); it != c.words.end();) {
-        auto jt = d.words.find(it->first);
-        if (jt == d.words.end()) {
+    if (c.words == d.words) return;  // the same words: merging them changes nothing
+    auto& words = c.words.edit();
+    const auto& other = d.words.get();
+    for (auto it = words.begin(); it != words.end();) {
+        auto jt = other.find(it->first);
+        if (jt == other.end()) {
             c.words_known = false;
-            it = c.words.erase(it);
+            it = words.erase(it);
         } else {
             it->second.merge(jt->second);
             ++it;
         }
     }
-    for (const auto& [k, v] : d.words)
-        if (!c.words.count(k)) c.words_known = false;
+    for (const auto& [k, v] : other)
+        if (!words.count(k)) c.words_known = false;
 }
 
 // A MODIN open on both sides, opened by the same block: it stays known as

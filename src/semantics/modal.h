@@ -20,6 +20,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "support/shared_value.h"
 #include "syntax/model.h"
 
 namespace osplint {
@@ -123,14 +124,16 @@ struct ActiveCycle {
     // FA, ...; not the axes, R or G/M/N), with their values when known. They are
     // modal within the cycle. `words_known` is false when paths that reach a
     // block disagree on which addresses were given: then absence proves nothing.
-    std::map<std::string, Val<double>> words;
+    // Shared between the copies of the state (it is copied at every block
+    // while the cycle is modal), copied when one of them changes.
+    SharedValue<std::map<std::string, Val<double>>> words;
     bool words_known = true;
     std::string via;  // "O100" when a user subprogram started it and left it modal; else empty
     friend bool operator==(const ActiveCycle&, const ActiveCycle&) = default;
 
-    bool given(const std::string& address) const { return words.count(address) > 0; }
+    bool given(const std::string& address) const { return words.get().count(address) > 0; }
     // Known to be absent: not commanded on any path since the cycle started.
-    bool known_absent(const std::string& address) const { return words_known && !words.count(address); }
+    bool known_absent(const std::string& address) const { return words_known && !words.get().count(address); }
 };
 
 // A fixed cycle that was started and that no G80 (or cancel macro) has ended

@@ -118,7 +118,7 @@ ArgValue cycle_word(const Block& b, const ModalState& before, const ActiveCycle&
         }
         return out;
     }
-    for (const auto& [addr, val] : c.words) {
+    for (const auto& [addr, val] : c.words.get()) {
         if (!is_it(addr)) continue;
         ArgValue out;
         if (val.known) {

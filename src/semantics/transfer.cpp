@@ -131,7 +131,10 @@ void update_cycle(ActiveCycle& c, const Block& b, const ModalState& before, char
     }
     for (const auto& w : b.words) {
         if (cycle_word_ignored(w.address) || is_coord_calc_operand(b, w)) continue;
-        c.words[w.address] = known_or_unknown(word_value(b, w, before));
+        const Val<double> v = known_or_unknown(word_value(b, w, before));
+        const auto& words = c.words.get();
+        if (const auto it = words.find(w.address); it != words.end() && it->second == v) continue;
+        c.words.edit()[w.address] = v;
     }
 }
 
@@ -499,9 +502,8 @@ int apply_cycle_slot(const BlockFacts& f, const Catalog& catalog, ModalState& s,
             // documented: the cycle may or may not still be modal.
             s.cycle = Val<std::optional<ActiveCycle>>{};
         } else {
-            ActiveCycle c = *s.cycle.value;
-            update_cycle(c, b, before, cyc_axis);
-            s.cycle = Val<std::optional<ActiveCycle>>::of(std::move(c));
+            // In place: the values are read in `before`, a copy of its own.
+            update_cycle(*s.cycle.value, b, before, cyc_axis);
         }
     }
     return cw.code;

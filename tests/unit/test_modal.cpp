@@ -127,7 +127,11 @@ TEST_CASE("modal state: MODIN/MODOUT, fixed cycles, G114 and M204, NCYL") {
     const ActiveCycle& t = cycle_of(r.at(9).after);
     CHECK(t.code == 114);
     CHECK(t.macro == "OG84L");
-    CHECK(t.words.at("FA").is(1300));
+    CHECK(t.words.get().at("FA").is(1300));
+    // A hole block gives no modal word: it keeps the cycle's words as they
+    // are, shared with the state before it.
+    CHECK(cycle_of(r.at(10).after).words.shares(t.words));
+    CHECK(cycle_of(r.at(10).after) == t);
     CHECK(r.at(9).after.overrides_disabled.is(true));
     CHECK(r.at(9).after.x.is(5));
     CHECK(r.at(9).after.z.is(50));  // the declaration block does not run the cycle axis
@@ -381,4 +385,38 @@ TEST_CASE("the fixpoint sweeps a loop a small constant number of times") {
     CHECK(r.stats.loop_sweeps <= 4);
     CHECK(r.stats.transfers <= 5 * blocks);
     MESSAGE("blocks " << blocks << ", transfers " << r.stats.transfers << ", sweeps " << r.stats.loop_sweeps);
+}
+
+TEST_CASE("modal state: the cycle's words are shared between copies until one changes") {
+    ActiveCycle a;
+    a.code = 114;
+    a.words.edit()["FA"] = Val<double>::of(650);
+    ActiveCycle b = a;
+    CHECK(b.words.shares(a.words));
+    CHECK(b == a);
+    b.words.edit()["L"] = Val<double>::of(1.5);  // b's own copy: a keeps its words
+    CHECK_FALSE(b.words.shares(a.words));
+    CHECK(a.words.get().size() == 1);
+    CHECK(b.words.get().size() == 2);
+    CHECK_FALSE(b == a);
+    // Equal words held apart are equal.
+    ActiveCycle c;
+    c.code = 114;
+    c.words.edit()["FA"] = Val<double>::of(650);
+    CHECK_FALSE(c.words.shares(a.words));
+    CHECK(c == a);
+    // A merge of the same words keeps them shared and known.
+    ModalState s, t;
+    s.cycle = Val<std::optional<ActiveCycle>>::of(a);
+    t.cycle = Val<std::optional<ActiveCycle>>::of(a);
+    s.merge(t);
+    CHECK(s.cycle.value->words.shares(a.words));
+    CHECK(s.cycle.value->words_known);
+    // A merge of other words keeps what both give, and no longer knows absence.
+    t.cycle = Val<std::optional<ActiveCycle>>::of(b);
+    s.merge(t);
+    CHECK(s.cycle.value->words.get().size() == 1);
+    CHECK_FALSE(s.cycle.value->words_known);
+    CHECK(a.words.get().size() == 1);
+    CHECK(b.words.get().size() == 2);
 }
