@@ -325,8 +325,11 @@ const ArgSpec* MacroSpec::arg(std::string_view n) const {
 
 const ArgSpec* MacroSpec::arg_for_address(std::string_view address) const {
     if (gcode_form && !gcode_form->address_map.empty()) {
-        auto it = gcode_form->address_map.find(upper(address));
-        return it == gcode_form->address_map.end() ? nullptr : arg(it->second);
+        // Addresses are written in capitals: the key as it is, without a copy.
+        const bool capitals = std::none_of(address.begin(), address.end(), [](char c) { return c >= 'a' && c <= 'z'; });
+        const auto& map = gcode_form->address_map;
+        auto it = capitals ? map.find(address) : map.find(upper(address));
+        return it == map.end() ? nullptr : arg(it->second);
     }
     return arg(address);
 }

@@ -152,7 +152,7 @@ struct FormatLine {
 struct GCodeForm {
     std::string text;
     std::string source;
-    std::map<std::string, std::string> address_map;  // "Q" -> "PQ"
+    std::map<std::string, std::string, std::less<>> address_map;  // "Q" -> "PQ"
     std::string note;
 };
 

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "semantics/motion_internal.h"
+#include "support/function_ref.h"
 #include "semantics/transfer.h"
 
 namespace osplint::motion_detail {
@@ -105,7 +106,7 @@ MotionPoint point_from(const std::string& step, const std::string& label, const 
 // gave). Absent: not given since the cycle started; Unknown when the paths to
 // the block disagree on that.
 ArgValue cycle_word(const Block& b, const ModalState& before, const ActiveCycle& c,
-                    const std::function<bool(const std::string&)>& is_it, bool describe = true) {
+                    FunctionRef<bool(const std::string&)> is_it, bool describe = true) {
     for (const auto& w : b.words) {
         if (!is_it(w.address)) continue;
         ArgValue out;
