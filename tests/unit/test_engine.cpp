@@ -667,24 +667,35 @@ std::string repeated_calls_program(std::mt19937& rng) {
     return text + "G0 Z50.\nM30\n";
 }
 
-TEST_CASE("engine: a call that repeats the one before but for its values gives the reference's result") {
-    // The parser updates such a line's block in place and the walk takes its
-    // call from the one before (resolve_call_again).
-    Config config = with_travel(-40);
-    std::mt19937 rng(1205);
-    uint64_t again = 0;
-    std::map<std::string, int> seen;
+// Twelve programs of `make`, each checked beside the reference with Z
+// travel limits and without; `count` adds up what the walk with limits
+// counted, the rules' findings go into `seen`.
+template <class Make, class Count>
+uint64_t compare_generated(const std::string& stem, unsigned seed, Make make, Count count,
+                           std::map<std::string, int>& seen) {
+    const Config config = with_travel(-40);
+    std::mt19937 rng(seed);
+    uint64_t total = 0;
     for (int i = 0; i < 12; ++i) {
-        const std::string text = repeated_calls_program(rng);
-        const std::string name = "calls" + std::to_string(i) + ".min";
+        const std::string text = make(rng);
+        const std::string name = stem + std::to_string(i) + ".min";
         EngineStats st;
         compare_checks(name, text, config, {}, &st);
         compare_checks(name, text, Config{});
-        again += st.calls_again;
+        total += count(st);
         AnalysisOptions options;
         options.fold = 0;
         for (const auto& d : check_text(name, text, config, options).diagnostics) ++seen[d.rule];
     }
+    return total;
+}
+
+TEST_CASE("engine: a call that repeats the one before but for its values gives the reference's result") {
+    // The parser updates such a line's block in place and the walk takes its
+    // call from the one before (resolve_call_again).
+    std::map<std::string, int> seen;
+    const uint64_t again = compare_generated(
+        "calls", 1205, repeated_calls_program, [](const EngineStats& st) { return st.calls_again; }, seen);
     CHECK(again > 2000);
     for (const std::string id : {"OSP101", "OSP109", "OSP301", "OSP302"}) CHECK_MESSAGE(seen[id] > 0, id);
 }
@@ -735,21 +746,9 @@ std::string modin_runs_program(std::mt19937& rng) {
 }
 
 TEST_CASE("engine: a positioning block under MODIN that keeps the call before gives the reference's result") {
-    std::mt19937 rng(1207);
-    uint64_t kept = 0;
     std::map<std::string, int> seen;
-    const Config config = with_travel(-40);
-    for (int i = 0; i < 12; ++i) {
-        const std::string text = modin_runs_program(rng);
-        const std::string name = "modin" + std::to_string(i) + ".min";
-        EngineStats st;
-        compare_checks(name, text, config, {}, &st);
-        compare_checks(name, text, Config{});
-        kept += st.modin_calls_kept;
-        AnalysisOptions options;
-        options.fold = 0;
-        for (const auto& d : check_text(name, text, config, options).diagnostics) ++seen[d.rule];
-    }
+    const uint64_t kept = compare_generated(
+        "modin", 1207, modin_runs_program, [](const EngineStats& st) { return st.modin_calls_kept; }, seen);
     CHECK(kept > 1000);
     for (const std::string id : {"OSP101", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
 }
@@ -769,16 +768,24 @@ void check_same_call(const MacroCall& got, const MacroCall& want, const std::str
     }
     CHECK_MESSAGE(same, where);
 }
+
+// Twelve programs of `make` (named stem0 ...), then the corpus.
+template <class Make>
+std::vector<std::pair<std::string, std::string>> generated_and_corpus(const std::string& stem, unsigned seed,
+                                                                      Make make) {
+    std::mt19937 rng(seed);
+    std::vector<std::pair<std::string, std::string>> programs;
+    for (int i = 0; i < 12; ++i) programs.emplace_back(stem + std::to_string(i), make(rng));
+    for (const auto& f : corpus_files()) programs.emplace_back(f.string(), read_all(f));
+    return programs;
+}
 }  // namespace
 
 TEST_CASE("resolve_call: a positioning block keeps the call before only when it is that block's call") {
     // Every block of MODIN runs and of the corpus, resolved as the walk does
     // (one call, the links of the last) and afresh.
     Config config;
-    std::mt19937 rng(1208);
-    std::vector<std::pair<std::string, std::string>> programs;
-    for (int i = 0; i < 12; ++i) programs.emplace_back("modin" + std::to_string(i), modin_runs_program(rng));
-    for (const auto& f : corpus_files()) programs.emplace_back(f.string(), read_all(f));
+    const auto programs = generated_and_corpus("modin", 1208, modin_runs_program);
     ArgLinks links;
     MacroCall walk;
     for (const auto& [name, text] : programs) {
@@ -822,10 +829,7 @@ TEST_CASE("transfer: a plain call applied from CallTransferMemo leaves the state
     // applied by apply_plain_move, which leaves the memo as it was: the
     // next call starts from another state than the last one.
     Config config;
-    std::mt19937 rng(1206);
-    std::vector<std::pair<std::string, std::string>> programs;
-    for (int i = 0; i < 12; ++i) programs.emplace_back("calls" + std::to_string(i), repeated_calls_program(rng));
-    for (const auto& f : corpus_files()) programs.emplace_back(f.string(), read_all(f));
+    const auto programs = generated_and_corpus("calls", 1206, repeated_calls_program);
     uint64_t hits = 0;
     for (const auto& [name, text] : programs) {
         const ProgramFile file = parse_program_file(name, text);
