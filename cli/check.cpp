@@ -150,8 +150,7 @@ std::string describe(const EngineStats& s) {
                        "{} walked with the rules after one sweep",
                        s.bytes, s.lines, s.programs, s.outline_lines_parsed, s.blocks_parsed, s.fallback_lines,
                        s.transfers, s.run_blocks, s.value_blocks, s.calls_again, s.modin_calls_kept, s.loops,
-                       s.held_loops,
-                       s.loop_sweeps, s.speculative_walks);
+                       s.held_loops, s.loop_sweeps, s.speculative_walks);
 }
 
 // Checks every file on a pool of worker threads, each file's findings handed

@@ -166,24 +166,15 @@ struct ActiveModin {
     // of them changes (args_to_edit).
     const std::map<std::string, double>& values() const { return args().values; }
     const std::vector<std::string>& given() const { return args().given; }
-    const ModinArgs& args() const {
-        static const ModinArgs none;
-        return args_ ? *args_ : none;
-    }
+    const ModinArgs& args() const { return args_.get(); }
     // The arguments as shared between the copies of the state: the same
     // pointer means the same arguments (nullptr: none given).
-    std::shared_ptr<const ModinArgs> shared_args() const { return args_; }
-    ModinArgs& args_to_edit() {
-        if (!args_ || args_.use_count() > 1) args_ = std::make_shared<ModinArgs>(args());
-        return *args_;
-    }
-    friend bool operator==(const ActiveModin& a, const ActiveModin& b) {
-        return a.macro == b.macro && a.line == b.line && a.via == b.via &&
-               (a.args_ == b.args_ || a.args() == b.args());
-    }
+    std::shared_ptr<const ModinArgs> shared_args() const { return args_.shared(); }
+    ModinArgs& args_to_edit() { return args_.edit(); }
+    friend bool operator==(const ActiveModin&, const ActiveModin&) = default;
 
 private:
-    std::shared_ptr<ModinArgs> args_;  // never changed while shared (args_to_edit)
+    SharedValue<ModinArgs> args_;
 };
 
 struct ModalState {

@@ -10,8 +10,8 @@
 #include <fmt/format.h>
 
 #include "semantics/motion_internal.h"
-#include "support/function_ref.h"
 #include "semantics/transfer.h"
+#include "support/function_ref.h"
 
 namespace osplint::motion_detail {
 

@@ -19,6 +19,9 @@ public:
         if (!p_ || p_.use_count() > 1) p_ = std::make_shared<T>(get());
         return *p_;
     }
+    // The value as shared (nullptr: none set): keeping it keeps the value
+    // alive and unchanged, so that the same pointer later is the same value.
+    std::shared_ptr<const T> shared() const { return p_; }
     // Whether the two hold the same value, not only equal ones.
     bool shares(const SharedValue& o) const { return p_ == o.p_; }
     friend bool operator==(const SharedValue& a, const SharedValue& b) { return a.shares(b) || a.get() == b.get(); }
