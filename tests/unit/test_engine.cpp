@@ -667,7 +667,7 @@ std::string repeated_calls_program(std::mt19937& rng) {
     return text + "G0 Z50.\nM30\n";
 }
 
-// Twelve programs of `make`, each checked beside the reference with Z
+// Twelve programs of `make`, each checked beside the reference with X/Y/Z
 // travel limits and without; `count` adds up what the walk with limits
 // counted, the rules' findings go into `seen`.
 template <class Make, class Count>
