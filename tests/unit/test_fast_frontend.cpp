@@ -254,8 +254,11 @@ std::string compare_outline(const std::string& name, const std::string& text) {
         // be a CALL or MODIN statement and nothing else the outline reads:
         // no program name, sequence name, block delete, jump, loop, RTS, N
         // word or directive. A plain call (plain_call) is that statement alone.
+        // A line the front end reads as a tape header (a `$` after the call's
+        // name makes one of it) gives the outline nothing either, once the
+        // program has begun (where the outline passes over lines).
         const bool plain = outline.plain_call(line);
-        if (plain || outline_passes_over(outline, line)) {
+        if ((plain || outline_passes_over(outline, line)) && !(!plain && a.kind == LineKind::Header)) {
             const bool call_first = !a.statements.empty() && (a.statements[0].kind == StmtKind::Call ||
                                                               a.statements[0].kind == StmtKind::Modin);
             bool takes = false;
