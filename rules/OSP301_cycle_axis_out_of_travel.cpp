@@ -62,6 +62,14 @@ public:
             report_envelope(ctx, v, config);
             return;
         }
+        // So with a hole of the cycle whose points on the cycle axis are
+        // those of the last quiet hole.
+        if (!v.plain_move && hole_quiet_.same(v, config)) {
+            if (const std::optional<Envelope> plane = cycle_envelope(v, config, EnvelopeDetail::Plane)) {
+                if (!travel_violations(*plane, config).empty()) report_envelope(ctx, v, config);
+                return;
+            }
+        }
         // A plain move runs no macro and drills no hole: no envelope.
         std::optional<Envelope> env =
             v.plain_move ? std::nullopt : cycle_envelope(v, config, EnvelopeDetail::Values);
@@ -73,8 +81,10 @@ public:
         }
         // The values decide; the text of a finding needs the envelope in full.
         const std::vector<TravelViolation> past = travel_violations(*env, config);
-        if (std::none_of(past.begin(), past.end(), [](const TravelViolation& t) { return t.point >= 0; }))
+        if (std::none_of(past.begin(), past.end(), [](const TravelViolation& t) { return t.point >= 0; })) {
             axis_quiet_.remember(v, config.travel);
+            hole_quiet_.remember(v, config);
+        }
         if (past.empty()) return;
         report_envelope(ctx, v, config);
     }
@@ -157,6 +167,7 @@ private:
     // Not state: what the rule reports is the same without it (so same_as
     // leaves it out).
     MacroAxisMemo axis_quiet_;
+    HoleAxisMemo hole_quiet_;
 
 public:
     bool same_as(const CycleAxisOutOfTravel&) const { return true; }

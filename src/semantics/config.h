@@ -20,6 +20,7 @@ namespace osplint {
 struct TravelLimit {
     double min = 0;
     double max = 0;
+    friend bool operator==(const TravelLimit&, const TravelLimit&) = default;
 };
 // By axis letter: X, Y, Z.
 using TravelLimits = std::map<char, TravelLimit>;

@@ -221,7 +221,8 @@ std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before,
         return macro_envelope(b, before, after, *call, *call->spec, &config, detail == EnvelopeDetail::Full,
                               detail != EnvelopeDetail::Plane);
     if (is_cycle_hole(b, before, after, call))
-        return hole_envelope(b, before, after, config, detail == EnvelopeDetail::Full);
+        return hole_envelope(b, before, after, config, detail == EnvelopeDetail::Full,
+                             detail != EnvelopeDetail::Plane);
     return std::nullopt;
 }
 

@@ -137,9 +137,11 @@ bool is_cycle_hole(const Block& block, const ModalState& before, const ModalStat
 // at a fraction of the cost; it asks again in full for the finding. The
 // points of a fixed cycle's holes are described either way (only the steps
 // of a G-code macro cycle's own sequence, OG84L's, go without their text).
-// Plane: for a macro, as Values without the points of its action steps (what
-// a rule asks once MacroAxisMemo has told it the points are as before); for a
-// hole, as Values.
+// Plane: as Values without the points on the cycle axis (what a rule asks
+// once MacroAxisMemo or HoleAxisMemo has told it they are as before): for a
+// macro, without the points of its action steps; for a hole, its position in
+// the plane only (a G88 hole, whose shifts after Z move in the plane, as
+// Values).
 enum class EnvelopeDetail : uint8_t { Full, Values, Plane };
 
 // The envelope of the motion the block runs on the cycle axis, or nullopt when
@@ -188,6 +190,43 @@ private:
     static Key key_of(const BlockView& v, const TravelLimits& travel, std::vector<ArgSeen>* args);
     Key key_;
     std::vector<ArgSeen> args_;
+};
+
+// The last hole of a modal cycle remembered, with all that its points on the
+// cycle axis are worked out from: the cycle (its code, macro, R, Z and modal
+// words), the plane, G90/G91, the cycle-axis position before the block, the
+// return level, the G71 level, G98/G99 and the cycle axis's travel limits. A
+// hole block that gives no word but the two plane axes, in a cycle that
+// agrees on all of these, has the same points there: a posted program drills
+// thousands of holes of one cycle with only X and Y changed. Not remembered:
+// a G88 hole (its shifts after Z move in the plane), a G-code macro cycle
+// whose steps read more than MacroSpec::action_args lists or read the
+// argument a plane axis gives. OSP301 remembers a hole whose cycle-axis
+// points are inside the travel. A cache, not state.
+class HoleAxisMemo {
+public:
+    // Whether `v` drills a hole with the same cycle-axis points as the one
+    // remembered, under `config` (its travel limits).
+    bool same(const BlockView& v, const Config& config) const;
+    // Remembers `v` when it is such a hole; otherwise forgets.
+    void remember(const BlockView& v, const Config& config);
+
+private:
+    struct Key {
+        std::optional<ActiveCycle> cycle;  // nullopt: nothing remembered
+        Val<Plane> plane;
+        Val<Distance> distance;
+        Val<double> position;  // on the cycle axis, before the block
+        Val<int> return_level;
+        Val<double> g71_level;
+        Val<CycleReturn> cycle_return;
+        std::optional<TravelLimit> travel;  // of the cycle axis
+        friend bool operator==(const Key&, const Key&) = default;
+    };
+    // The key of `v` (cycle nullopt: not a hole to remember). `same` compares
+    // `v` with the key through it: a field added to Key is read in both.
+    static Key key_of(const BlockView& v, const Config& config);
+    Key key_;
 };
 
 // Where a catalog macro the block runs (a CALL, a positioning block of an open

@@ -480,7 +480,7 @@ void add_hole_position(const Block& b, const ModalState& after, Envelope& env) {
 }  // namespace
 
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                      const Config& config, bool describe) {
+                                      const Config& config, bool describe, bool points) {
     const ActiveCycle& c = *after.cycle.value;
     const MacroSpec* macro = c.macro.empty() ? nullptr : config.catalog.find(c.macro);
     Envelope env;
@@ -498,6 +498,11 @@ std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, 
     env.plane = before.plane.value;
     env.axis = plane_axes(before.plane.value).cycle;
     env.start = before.axis(env.axis);
+    if (!points && (macro || c.code != 88)) {
+        add_hole_position(b, after, env);
+        finish(env);
+        return env;
+    }
 
     const HoleLevels levels = absolute_levels(c, before, env);
     env.points.push_back(initial_point(env));
@@ -523,3 +528,87 @@ std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, 
 }
 
 }  // namespace osplint::motion_detail
+
+namespace osplint {
+
+namespace {
+template <class T>
+bool same_val(const Val<T>& a, const Val<T>& b) {
+    return a.known == b.known && (!a.known || a.value == b.value);
+}
+
+// A block that gives nothing but the two axes of the positioning plane
+// `plane` (no statement, no other word): a hole there reads nothing of its
+// own on the cycle axis.
+bool plane_words_only(const Block& b, Plane plane) {
+    if (b.kind != LineKind::Block || b.words.empty() || b.block_delete || b.program_name || !b.statements.empty() ||
+        !b.assignments.empty() || !b.errors.empty())
+        return false;
+    const PlaneAxes pa = plane_axes(plane);
+    for (const auto& w : b.words)
+        if (w.address.size() != 1 || (w.address[0] != pa.first && w.address[0] != pa.second)) return false;
+    return true;
+}
+
+std::optional<TravelLimit> travel_of(const TravelLimits& travel, char axis) {
+    const auto it = travel.find(axis);
+    if (it == travel.end()) return std::nullopt;
+    return it->second;
+}
+}  // namespace
+
+HoleAxisMemo::Key HoleAxisMemo::key_of(const BlockView& v, const Config& config) {
+    Key k;
+    const ModalState& before = v.before;
+    const ModalState& after = v.after;
+    if (v.call || !before.plane.known || !after.cycle.known || !after.cycle.value) return k;
+    if (!plane_words_only(v.block, before.plane.value)) return k;
+    const ActiveCycle& c = *after.cycle.value;
+    if (!is_cycle_hole(v.block, before, after, v.call)) return k;
+    const PlaneAxes pa = plane_axes(before.plane.value);
+    if (!c.macro.empty()) {
+        // The steps of a G-code macro cycle read its arguments: not one a
+        // plane axis's word gives (the word changes from hole to hole).
+        if (const MacroSpec* spec = config.catalog.find(c.macro); spec && !spec->action.empty()) {
+            const std::vector<uint16_t>* reads = spec->action_args();
+            if (!reads) return k;
+            for (char axis : {pa.first, pa.second}) {
+                const ArgSpec* a = spec->arg_for_address(std::string_view(&axis, 1));
+                if (!a) continue;
+                const auto index = static_cast<uint16_t>(a - spec->args.data());
+                if (std::find(reads->begin(), reads->end(), index) != reads->end()) return k;
+            }
+        }
+    } else if (c.code == 88) {
+        return k;  // the shifts after Z move in the plane, from the hole
+    }
+    k.cycle = c;
+    k.plane = before.plane;
+    k.distance = before.distance;
+    k.position = before.axis(pa.cycle);
+    k.return_level = after.return_level;
+    k.g71_level = after.g71_level;
+    k.cycle_return = after.cycle_return;
+    k.travel = travel_of(config.travel, pa.cycle);
+    return k;
+}
+
+bool HoleAxisMemo::same(const BlockView& v, const Config& config) const {
+    // key_of's reading, compared as it goes; the macro's reads were looked at
+    // when the key was made (the same cycle in the same plane).
+    if (!key_.cycle || v.call || !v.before.plane.known || !same_val(v.before.plane, key_.plane)) return false;
+    const ModalState& before = v.before;
+    const ModalState& after = v.after;
+    if (!after.cycle.known || !after.cycle.value || !plane_words_only(v.block, before.plane.value)) return false;
+    if (!same_val(before.distance, key_.distance) || !same_val(after.return_level, key_.return_level) ||
+        !same_val(after.g71_level, key_.g71_level) || !same_val(after.cycle_return, key_.cycle_return))
+        return false;
+    const char axis = plane_axes(before.plane.value).cycle;
+    if (!same_val(before.axis(axis), key_.position) || travel_of(config.travel, axis) != key_.travel) return false;
+    if (!(*after.cycle.value == *key_.cycle)) return false;
+    return is_cycle_hole(v.block, before, after, v.call);
+}
+
+void HoleAxisMemo::remember(const BlockView& v, const Config& config) { key_ = key_of(v, config); }
+
+}  // namespace osplint

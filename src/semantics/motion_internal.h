@@ -145,8 +145,9 @@ std::optional<std::pair<char, double>> macro_end_point(const Block& b, const Mod
                                                        const MacroSpec& spec);
 // `describe` false: the steps of a G-code macro cycle's own sequence
 // (OG84L) without their text (EnvelopeDetail::Values); the fixed-cycle
-// points are always described.
+// points are always described. `points` false: no points on the cycle axis,
+// but for a G88 hole (EnvelopeDetail::Plane).
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
-                                      const Config& config, bool describe = true);
+                                      const Config& config, bool describe = true, bool points = true);
 
 }  // namespace osplint::motion_detail

@@ -815,6 +815,109 @@ TEST_CASE("a macro call MacroAxisMemo calls the same as the last one has the sam
     CHECK(hits > 20);
 }
 
+TEST_CASE("a hole HoleAxisMemo calls the same as the last one has the same cycle-axis points") {
+    // OSP301 passes over the cycle-axis points of a hole the memo calls the
+    // same as the last quiet one, and looks only at the hole's position
+    // (EnvelopeDetail::Plane). On every pair of holes in a row, in the
+    // corpus and in a program that changes one input at a time, "same" must
+    // mean the same points, and the plane part must be the one of the
+    // envelope worked out in values.
+    int hits = 0, misses = 0;
+    auto compare = [&](const std::string& name, const std::string& text, const Config& config) {
+        const auto analysis = osplint::testing::analyze_text(name, text, config);
+        HoleAxisMemo memo;
+        std::optional<Envelope> last;
+        for (const auto& b : analysis.blocks) {
+            const BlockView v = b.view();
+            const auto values = cycle_envelope(v, config, EnvelopeDetail::Values);
+            if (!values) continue;
+            CAPTURE(name);
+            CAPTURE(v.block.line);
+            if (memo.same(v, config)) {
+                ++hits;
+                REQUIRE(last);
+                CHECK(values->source != MotionSource::Macro);
+                check_same_points(values->points, last->points);
+                const auto plane = cycle_envelope(v, config, EnvelopeDetail::Plane);
+                REQUIRE(plane);
+                CHECK(plane->points.empty());
+                CHECK(plane->axis == values->axis);
+                REQUIRE(plane->plane_points.size() == values->plane_points.size());
+                for (size_t i = 0; i < plane->plane_points.size(); ++i)
+                    CHECK((plane->plane_points[i].axis == values->plane_points[i].axis &&
+                           plane->plane_points[i].value == values->plane_points[i].value &&
+                           plane->plane_points[i].what == values->plane_points[i].what));
+                CHECK(plane->plane_spans.size() == values->plane_spans.size());
+                // The plane part's findings (the memo may hold a hole past
+                // the travel on the cycle axis: OSP301 remembers quiet ones).
+                const auto past = travel_violations(*values, config);
+                CHECK(travel_violations(*plane, config).size() ==
+                      static_cast<size_t>(std::count_if(past.begin(), past.end(),
+                                                        [](const TravelViolation& t) { return t.point < 0; })));
+            } else {
+                ++misses;
+            }
+            memo.remember(v, config);
+            last = values;
+        }
+    };
+    Config travel;
+    travel.travel['X'] = TravelLimit{-20, 20};
+    travel.travel['Z'] = TravelLimit{-25, 60};
+    on_corpus(travel, compare);
+    // The holes after the first of each cycle repeat the one before but for
+    // one input: the position in the plane only (a hit), a word of the
+    // cycle on the block, G98/G99, the return level, the distance mode, the
+    // plane. A G88 hole is never the same (its shifts move in the plane
+    // from the hole); the holes of G114 (OG84L) are, since its steps read
+    // R, Z and L only.
+    const std::string program = kHead +
+                                "G98 G114 X14.5 Y-20. R10. Z-21.5 L1.5 P.5 F600 FA=650\n"  // 5: no hole
+                                "X19.5 Y-20.\n"                        // 6: miss (nothing remembered)
+                                "X-17.5 Y-20.\n"                       // 7: hit
+                                "X-15.5 Y-20. L2.\n"                   // 8: miss (L)
+                                "X-13.5 Y-20.\n"                       // 9: miss (the cycle's L changed)
+                                "X-11.5 Y-20.\n"                       // 10: hit
+                                "M204\n"
+                                "G98 G81 X10. Y10. R3. Z-20. F100\n"   // 12: the start
+                                "X12. Y10.\n"                          // 13: miss (the start gives R and Z)
+                                "X14. Y10.\n"                          // 14: hit
+                                "X16.\n"                               // 15: hit
+                                "X25. Y10.\n"                          // 16: hit (past X: the plane part says so)
+                                "X18. Y10. Z-22.\n"                    // 17: miss (a Z word)
+                                "X20. Y10.\n"                          // 18: miss (the cycle's Z changed)
+                                "X19. Y10.\n"                          // 19: hit
+                                "G99 X18. Y10.\n"                      // 20: miss (a G word)
+                                "X17. Y10.\n"                          // 21: miss (G99: from the R point)
+                                "X16. Y10.\n"                          // 22: hit
+                                "G98 G91 X1.\n"                        // 23: miss (G words)
+                                "X1.\n"                                // 24: miss (G91)
+                                "X1.\n"                                // 25: hit
+                                "G90\n"
+                                "M53\n"
+                                "X15. Y10.\n"                          // 28: miss (the return level)
+                                "X14. Y10.\n"                          // 29: miss (M53 left Z at a G71 level not known)
+                                "X13. Y10.\n"                          // 30: hit
+                                "G80\n"
+                                "G0 Z50.\n"
+                                "G98 G88 X0 Y0 R3. Z-20. Q1. I1. J1. F100\n"  // 33: the start
+                                "X5. Y5.\n"                            // 34: miss (G88)
+                                "X6. Y5.\n"                            // 35: miss (G88)
+                                "G80\n"
+                                "G18 G0 Y50.\n"
+                                "G98 G81 X10. Z10. R3. Y-20. F100\n"   // 38: the start
+                                "X12. Z10.\n"                          // 39: miss
+                                "X13. Z10.\n"                          // 40: hit
+                                "X14. Y-19.\n"                         // 41: miss (Y is the cycle axis in G18)
+                                "G80\n"
+                                "M30\n";
+    const int hits_before = hits, misses_before = misses;
+    compare("holes.MIN", program, travel);
+    CHECK(hits - hits_before == 10);
+    CHECK(misses - misses_before == 19);
+    CHECK(hits > 20);
+}
+
 TEST_CASE("unknown values stay unknown") {
     auto t = trace_text(kHead +
                         "CALL OZAGR PR=5. PZ=VC1 PI=6.\n"
