@@ -620,8 +620,8 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
         if (!rules) return;
         read_whole(b, line);
         const MacroCall* call = resolve(b, unknown_);
-        ModalState after = unknown_;
-        apply_block(b, call, config_.catalog, after, &macro_ends_, &call_transfers_);
+        ModalState after;
+        apply_block(b, call, config_.catalog, unknown_, after, &macro_ends_, &call_transfers_);
         check(BlockView{b, unknown_, after, call, false}, line, false);
         near_ = false;
         return;
@@ -640,8 +640,7 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     // cycle, under MODIN) is parsed whole; a block read whole stays as it is.
     read_whole(b, line);
     const MacroCall* call = resolve(b, *A_);
-    *B_ = *A_;
-    apply_block(b, call, config_.catalog, *B_, &macro_ends_, &call_transfers_);
+    apply_block(b, call, config_.catalog, *A_, *B_, &macro_ends_, &call_transfers_);
     near_ = false;
     if (rules) check(BlockView{b, *A_, *B_, call, true}, line, false);
     leave(b, line);

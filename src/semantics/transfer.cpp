@@ -6,6 +6,7 @@
 #include "semantics/transfer.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <span>
@@ -762,23 +763,41 @@ void finish_block(const Block& b, const ModalState& before, const MacroCall* cal
 void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, ModalState& s, MacroEndMemo* ends,
                  CallTransferMemo* calls) {
     if (b.kind != LineKind::Block) return;
-    s.clear_one_shots();
+    ModalState before = s;  // values of the block are read in the state before it
+    before.clear_one_shots();
+    apply_block(b, call, catalog, before, s, ends, calls);
+}
+
+void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, const ModalState& before,
+                 ModalState& s, MacroEndMemo* ends, CallTransferMemo* calls) {
+    assert(&before != &s);
+    if (b.kind != LineKind::Block) {
+        s = before;
+        return;
+    }
+    if (before.ncyl || before.noex || before.g100) {
+        // The one-shots of the block before are not the state this block reads.
+        ModalState clean = before;
+        clean.clear_one_shots();
+        apply_block(b, call, catalog, clean, s, ends, calls);
+        return;
+    }
     const bool plain = calls && plain_catalog_call(b, call);
     if (plain && calls->spec == call->spec) {
         // The position is not part of what the block reads but for its end point.
         CallTransferMemo& m = *calls;
-        m.before.x = s.x;
-        m.before.y = s.y;
-        m.before.z = s.z;
+        m.before.x = before.x;
+        m.before.y = before.y;
+        m.before.z = before.z;
         const MacroArg* ps = call->arg("PS");
-        if (ArgSeen::of(ps) == m.ps && (call->arg("PF") != nullptr) == m.pf && m.before == s) {
+        if (ArgSeen::of(ps) == m.ps && (call->arg("PF") != nullptr) == m.pf && m.before == before) {
             s = m.partial;
             ++m.hits;
             finish_block(b, m.before, call, true, ends, s);
             return;
         }
     }
-    const ModalState before = s;  // values of the block are read in the state before it
+    s = before;
     const BlockFacts f(b, call, before);
     s.ncyl = b.statement(StmtKind::Ncyl) != nullptr;
     s.noex = b.statement(StmtKind::Noex) != nullptr;

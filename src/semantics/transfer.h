@@ -40,6 +40,11 @@ struct CallTransferMemo {
 // call (CallTransferMemo). Both are caches: the state is the same without.
 void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, ModalState& state,
                  MacroEndMemo* ends = nullptr, CallTransferMemo* calls = nullptr);
+// The same from `before` (the walk's state before the block, left as it
+// is) into `state`, another object, which it overwrites: no copy of the
+// state before is made, and none at all for a call CallTransferMemo knows.
+void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, const ModalState& before,
+                 ModalState& state, MacroEndMemo* ends = nullptr, CallTransferMemo* calls = nullptr);
 
 // Resolves the macro or subprogram a block invokes, with evaluated arguments
 // (`links`: see link_arg_specs).
