@@ -216,8 +216,39 @@ void index_arg_names(MacroSpec& spec) {
 }
 }  // namespace
 
+namespace {
+// The slot of plane 17/18/19 and axis X/Y/Z in MacroSpec::position_args_ (-1: none).
+int position_slot(int plane, char axis) {
+    const int p = plane == 17 ? 0 : plane == 18 ? 1 : plane == 19 ? 2 : -1;
+    const int a = axis == 'X' ? 0 : axis == 'Y' ? 1 : axis == 'Z' ? 2 : -1;
+    return p < 0 || a < 0 ? -1 : p * 3 + a;
+}
+}  // namespace
+
+const ArgSpec* MacroSpec::position_arg(int plane, char axis) const {
+    if (position_args_of == args.size() + 1) {
+        const int slot = position_slot(plane, axis);
+        if (slot < 0) return nullptr;
+        const int16_t at = position_args_[static_cast<size_t>(slot)];
+        return at ? &args[static_cast<size_t>(at - 1)] : nullptr;
+    }
+    const ArgSpec* pos = nullptr;
+    for (const auto& as : args)
+        if (as.role == ArgRole::Position && as.axis(plane) && *as.axis(plane) == axis) pos = &as;
+    return pos;
+}
+
 void MacroSpec::index_args() {
     index_arg_names(*this);
+    position_args_.fill(0);
+    for (size_t i = 0; i < args.size() && i < 0x7FFF; ++i) {
+        if (args[i].role != ArgRole::Position) continue;
+        for (int plane : {17, 18, 19})
+            if (const auto a = args[i].axis(plane))
+                if (const int slot = position_slot(plane, *a); slot >= 0)
+                    position_args_[static_cast<size_t>(slot)] = static_cast<int16_t>(i + 1);
+    }
+    position_args_of = args.size() + 1;
     relation_sides_.clear();
     for (const Relation& r : relations) relation_sides_.push_back(relation_sides(r, *this));
     relation_sides_of = relations.size();

@@ -324,6 +324,14 @@ struct MacroSpec {
                                                                                                      : nullptr;
     }
 
+    // The positioning-plane argument (ArgRole::Position) of axis `axis` in
+    // plane `plane` (17, 18, 19), the last one listed when several are;
+    // nullptr when none is. Looked up in position_args_, made with
+    // index_args; for another number of arguments, among the arguments.
+    const ArgSpec* position_arg(int plane, char axis) const;
+    std::array<int16_t, 9> position_args_{};  // by plane and axis X/Y/Z: 1 + the index, 0: none
+    size_t position_args_of = 0;              // 1 + args.size() when they were made (0: not made)
+
     // By name or alias, case-insensitive.
     const ArgSpec* arg(std::string_view name) const;
     // In the G-code macro form: the argument an address stands for (through

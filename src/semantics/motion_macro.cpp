@@ -304,9 +304,7 @@ PlaneCentre plane_centre(const MacroRun& run, Envelope& env) {
                 what = "current " + std::string(1, a);
             }
         } else {
-            const ArgSpec* pos = nullptr;
-            for (const auto& as : run.spec.args)
-                if (as.role == ArgRole::Position && as.axis(pn) && *as.axis(pn) == a) pos = &as;
+            const ArgSpec* pos = run.spec.position_arg(pn, a);
             const MacroArg* m = pos ? given_arg(run.call, pos, pos->name) : nullptr;
             if (m && m->value.known) {
                 if (before.distance.is(Distance::Absolute)) v = m->value.value;

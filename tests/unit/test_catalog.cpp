@@ -495,6 +495,44 @@ TEST_CASE("an argument found through the index is the one the names give") {
     MESSAGE(specs << " macros, " << lookups << " names");
 }
 
+TEST_CASE("a positioning argument found through the index is the one the roles and axes give") {
+    // MacroSpec::position_arg, made with index_args, against the search
+    // among the arguments it falls back to (a spec whose arguments changed
+    // since): for every macro and cycle, plane and axis.
+    const Catalog& cat = Catalog::builtin();
+    size_t found = 0;
+    auto check_spec = [&](const MacroSpec& spec) {
+        CHECK_MESSAGE(spec.position_args_of == spec.args.size() + 1, spec.name);
+        MacroSpec plain = spec;
+        plain.position_args_of = 0;  // not made: the arguments are searched
+        for (int plane : {17, 18, 19, 20})
+            for (char axis : {'X', 'Y', 'Z', 'A', 'x'}) {
+                const ArgSpec* a = spec.position_arg(plane, axis);
+                const ArgSpec* b = plain.position_arg(plane, axis);
+                CHECK_MESSAGE((a ? a - spec.args.data() : -1) == (b ? b - plain.args.data() : -1),
+                              spec.name << " G" << plane << " " << axis);
+                if (a) {
+                    ++found;
+                    CHECK(a->role == ArgRole::Position);
+                    CHECK(a->axis(plane) == axis);
+                }
+            }
+    };
+    for (const auto& m : cat.macros()) check_spec(m);
+    for (const auto& c : cat.cycles()) check_spec(c);
+    CHECK(found > 20);
+    // An argument added since the index was made: the search finds it.
+    MacroSpec grown = *cat.find("OZAGR");
+    const ArgSpec* px = grown.position_arg(17, 'X');
+    REQUIRE(px);
+    ArgSpec extra = *px;
+    extra.name = "PXX";
+    grown.args.push_back(extra);
+    const ArgSpec* last = grown.position_arg(17, 'X');
+    REQUIRE(last);
+    CHECK(last->name == "PXX");
+}
+
 TEST_CASE("catalog expressions") {
     auto t = parse_catalog_expr("PZ-PI-PL");
     REQUIRE(t.has_value());
