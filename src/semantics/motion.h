@@ -221,7 +221,6 @@ private:
         Val<double> g71_level;
         Val<CycleReturn> cycle_return;
         std::optional<TravelLimit> travel;  // of the cycle axis
-        friend bool operator==(const Key&, const Key&) = default;
     };
     // The key of `v` (cycle nullopt: not a hole to remember). `same` compares
     // `v` with the key through it: a field added to Key is read in both.

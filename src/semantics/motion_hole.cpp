@@ -531,11 +531,9 @@ std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, 
 
 namespace osplint {
 
+using motion_detail::same_val;
+
 namespace {
-template <class T>
-bool same_val(const Val<T>& a, const Val<T>& b) {
-    return a.known == b.known && (!a.known || a.value == b.value);
-}
 
 // A block that gives nothing but the two axes of the positioning plane
 // `plane` (no statement, no other word): a hole there reads nothing of its

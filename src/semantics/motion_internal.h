@@ -150,4 +150,11 @@ std::optional<std::pair<char, double>> macro_end_point(const Block& b, const Mod
 std::optional<Envelope> hole_envelope(const Block& b, const ModalState& before, const ModalState& after,
                                       const Config& config, bool describe = true, bool points = true);
 
+// Whether two values are the same as a memo of the motion reads them: both
+// unknown, or both known and equal (an unknown value's field is not read).
+template <class T>
+bool same_val(const Val<T>& a, const Val<T>& b) {
+    return a.known == b.known && (!a.known || a.value == b.value);
+}
+
 }  // namespace osplint::motion_detail

@@ -504,12 +504,7 @@ std::optional<std::pair<char, double>> macro_end_point(const Block& b, const Mod
 
 namespace osplint {
 
-namespace {
-template <class T>
-bool same_val(const Val<T>& a, const Val<T>& b) {
-    return a.known == b.known && (!a.known || a.value == b.value);
-}
-}  // namespace
+using motion_detail::same_val;
 
 MacroAxisMemo::Key MacroAxisMemo::key_of(const BlockView& v, const TravelLimits& travel, std::vector<ArgSeen>* args) {
     Key k;
