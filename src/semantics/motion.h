@@ -222,8 +222,8 @@ private:
         Val<CycleReturn> cycle_return;
         std::optional<TravelLimit> travel;  // of the cycle axis
     };
-    // The key of `v` (cycle nullopt: not a hole to remember). `same` compares
-    // `v` with the key through it: a field added to Key is read in both.
+    // The key of `v` (cycle nullopt: not a hole to remember). `same` reads
+    // `v` as key_of does, field by field: a field added to Key is read in both.
     static Key key_of(const BlockView& v, const Config& config);
     Key key_;
 };
