@@ -193,6 +193,7 @@ void Walk::walk_program(size_t index) {
     if (options_.observer) options_.observer->program(program_, subprogram_);
 
     *A_ = subprogram_ && options_.subprogram_entry ? *options_.subprogram_entry : initial_state(config_, subprogram_);
+    ++flow_epoch_;
     reachable_ = true;
     near_ = false;
     walk_blocks();
@@ -452,6 +453,7 @@ bool Walk::sweep_file(uint32_t start, uint32_t start_line, uint64_t end, Mode mo
 }
 
 void Walk::set_state(const MaybeState& s) {
+    ++flow_epoch_;
     reachable_ = s.reachable;
     if (s.reachable) *A_ = s.state;
     near_ = false;
@@ -472,6 +474,7 @@ void Walk::enter(const Block& b, uint32_t offset) {
     }
     const MaybeState* by_offset = pending_offset_.find(offset);
     if (!by_name && !by_offset) return;  // no path but the one falling into the block
+    ++flow_epoch_;
     // The merge is made in place, in the state flowing in.
     bool reachable = reachable_;
     for (const MaybeState* p : {by_name, by_offset}) {
@@ -844,6 +847,9 @@ uint32_t Walk::quiet_run(uint32_t max_lines, uint64_t start_limit, bool move) {
 }
 
 void Walk::index_plain_rules() {
+    ++flow_epoch_;
+    repeat_.armed = false;
+    repeat_rules_of_.clear();
     call_rules_.clear();
     for (auto& r : rules_)
         if (r->sees_plain_calls()) call_rules_.push_back(r.get());
@@ -892,6 +898,73 @@ const std::vector<Rule*>& Walk::call_rules_of(const MacroCall& call) {
     return it->second;
 }
 
+const std::vector<Rule*>& Walk::repeat_rules_of(const MacroSpec* spec, CallKind kind, bool plain_call) {
+    auto [it, added] = repeat_rules_of_.try_emplace(std::tuple{spec, kind, plain_call});
+    if (added) {
+        for (const auto& r : rules_) {
+            if (plain_call && (!r->sees_plain_calls() || !r->sees_plain_calls_of(*spec, kind))) continue;
+            if (!r->quiet_on_repeat(config_, spec)) it->second.push_back(r.get());
+        }
+    }
+    return it->second;
+}
+
+// Whether the rules may see the block as a repeat of the block before it
+// (Rule::quiet_on_repeat), or see it so the next one may be: a block of words
+// whose numbers are written out, perhaps one CALL or MODIN of a catalog
+// macro, in a known plane; `spans` gets where the values of the plane's
+// position words are in the line.
+bool Walk::repeatable(const BlockView& view, const LineRef& line, RepeatSpans& spans) const {
+    const Block& b = view.block;
+    if (!view.reachable || b.kind != LineKind::Block || b.program_name || b.sequence || b.block_delete ||
+        !b.assignments.empty() || !b.errors.empty() || !view.before.plane.known || b.line_start != line.start)
+        return false;
+    const MacroCall* c = view.call;
+    if (c && (!c->spec || c->summary)) return false;
+    const bool call_line = c && (c->kind == CallKind::Call || c->kind == CallKind::Modin);
+    if (call_line ? b.statements.size() != 1 : !b.statements.empty()) return false;
+    if (c && c->kind == CallKind::MCode) return false;
+    const PlaneAxes axes = plane_axes(view.before.plane.value);
+    spans.count = 0;
+    const auto add = [&](const Word& w) {
+        if (!w.number || spans.count == 2 || w.value_range.begin < line.start ||
+            w.value_range.end > line.start + line.text.size())
+            return false;
+        spans.at[spans.count++] = {w.value_range.begin - line.start, w.value_range.end - line.start};
+        return true;
+    };
+    if (call_line) {
+        const int plane = view.before.plane.value == Plane::G17 ? 17 : view.before.plane.value == Plane::G18 ? 18 : 19;
+        for (const char axis : {axes.first, axes.second}) {
+            const ArgSpec* a = c->spec->position_arg(plane, axis);
+            const MacroArg* m = a ? c->given(*a) : nullptr;
+            if (m && m->word && !add(*m->word)) return false;
+        }
+        if (spans.count == 2 && spans.at[1].begin < spans.at[0].begin) std::swap(spans.at[0], spans.at[1]);
+    } else {
+        for (const Word& w : b.words)
+            if (w.address.size() == 1 && (w.address[0] == axes.first || w.address[0] == axes.second) && !add(w))
+                return false;
+    }
+    return true;
+}
+
+// Whether the state after the block is the state before it but for the
+// position in the plane.
+bool Walk::same_apart_from_plane(const BlockView& view) const {
+    if (&view.before != A_ || &view.after != B_) return false;
+    const PlaneAxes axes = plane_axes(view.before.plane.value);
+    Val<double>* first = B_->axis_ref(axes.first);
+    Val<double>* second = B_->axis_ref(axes.second);
+    const Val<double> keep_first = *first, keep_second = *second;
+    *first = A_->axis(axes.first);
+    *second = A_->axis(axes.second);
+    const bool same = *A_ == *B_;
+    *first = keep_first;
+    *second = keep_second;
+    return same;
+}
+
 void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
     if (plain) {
         // Where paths join (a name a jump or N word names), the state may not be
@@ -901,10 +974,62 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
         for (size_t i = 0; i < plain_rules_.size(); ++i)
             if (join || plain_rules_[i]->wants_plain_moves() || (named && plain_named_[i]))
                 plain_rules_[i]->check_block(*this, view);
-    } else if (is_plain_call(view)) {
-        for (Rule* r : call_rules_of(*view.call)) r->check_block(*this, view);
+        repeat_.armed = false;
     } else {
-        for (auto& r : rules_) r->check_block(*this, view);
+        const bool plain_call = is_plain_call(view);
+        // A repeat of the block before: the block, the state before it and
+        // the state after it are that block's but for the position in the
+        // plane (the two states are one another's but for it, both times),
+        // and no block or other state came between.
+        RepeatSpans spans;
+        const bool may_repeat = repeatable(view, line, spans) && same_apart_from_plane(view);
+        const MacroSpec* spec = view.call ? view.call->spec : nullptr;
+        const CallKind kind = view.call ? view.call->kind : CallKind::None;
+        bool repeat = false;
+        if (may_repeat && repeat_.armed && repeat_.transfers + 1 == stats_.transfers && repeat_.epoch == flow_epoch_ &&
+            repeat_.spec == spec && repeat_.kind == kind && repeat_.count == spans.count) {
+            const std::string_view t = line.text;
+            const std::string& k = repeat_.text;
+            uint32_t cut_len = 0;
+            for (uint8_t i = 0; i < spans.count; ++i) cut_len += spans.at[i].size();
+            repeat = t.size() - cut_len == k.size();
+            uint32_t from = 0, at = 0;
+            for (uint8_t i = 0; repeat && i <= spans.count; ++i) {
+                const uint32_t to = i < spans.count ? spans.at[i].begin : static_cast<uint32_t>(t.size());
+                const uint32_t cut = i < spans.count ? repeat_.cuts[i] : static_cast<uint32_t>(k.size());
+                repeat = cut - at == to - from && t.compare(from, to - from, k, at, cut - at) == 0;
+                at = cut;
+                if (i < spans.count) from = spans.at[i].end;
+            }
+        }
+        const uint64_t reports = reports_;
+        if (repeat) {
+            ++stats_.repeats;
+            for (Rule* r : *repeat_.rules) r->check_block(*this, view);
+        } else if (plain_call) {
+            for (Rule* r : call_rules_of(*view.call)) r->check_block(*this, view);
+        } else {
+            for (auto& r : rules_) r->check_block(*this, view);
+        }
+        repeat_.armed = may_repeat && reports_ == reports;
+        if (repeat_.armed) {
+            repeat_.transfers = stats_.transfers;
+            repeat_.epoch = flow_epoch_;
+            if (!repeat) {
+                repeat_.spec = spec;
+                repeat_.kind = kind;
+                repeat_.count = spans.count;
+                repeat_.text.clear();
+                uint32_t from = 0;
+                for (uint8_t i = 0; i < spans.count; ++i) {
+                    repeat_.text.append(line.text.substr(from, spans.at[i].begin - from));
+                    repeat_.cuts[i] = static_cast<uint32_t>(repeat_.text.size());
+                    from = spans.at[i].end;
+                }
+                repeat_.text.append(line.text.substr(from));
+                repeat_.rules = &repeat_rules_of(spec, kind, plain_call);
+            }
+        }
     }
     if (options_.observer && !options_.observer->block(view, line)) stop_ = true;
     if (!findings_.empty()) flush();

@@ -47,6 +47,7 @@ bool Walk::has_program(std::string_view name) const {
 }
 
 Diagnostic& Walk::report(const RuleMeta& rule, ByteRange range, std::string message) {
+    ++reports_;
     Diagnostic d;
     d.rule = std::string(rule.id);
     d.name = std::string(rule.name);
@@ -74,6 +75,7 @@ bool same_bytes(std::string_view key, const char* other) {
 }  // namespace
 
 bool Walk::folded(const RuleMeta& rule, std::string_view key, ByteRange range) {
+    ++reports_;
     pending_verdict_.reset();
     if (!folder_.enabled()) return false;
     // A finding a directive silences is reported (and then suppressed), never folded.

@@ -212,6 +212,25 @@ public:
     // walk: a rule about some macros only (those with a tool shift, those
     // that plunge at rapid) says no for the others.
     virtual bool sees_plain_calls_of(const MacroSpec&, CallKind) const { return true; }
+    // Whether check_block may be left out on a block that repeats the block
+    // the rules saw just before it, when that one gave no finding at all
+    // (Walk::check): the same text but for the values of the words that give
+    // the position in the plane (X and Y under G17; on a CALL or MODIN line,
+    // the arguments MacroSpec::position_arg gives for those axes), numbers
+    // both times, with the state before and the state after each equal to
+    // the other block's but for the position in the plane. A posted program
+    // writes such blocks by the thousand: the same macro call or the same
+    // hole, moved. `spec` is the catalog macro the block runs (nullptr:
+    // none). A rule says yes when what check_block does on such a block reads
+    // none of what differs (the plane's positions, those words' values and
+    // ranges, the block's line and ranges), so that it would again report
+    // nothing, and when doing it a second time changes nothing in the rule's
+    // own state (no count, no "last block seen"). The differential tests
+    // hold the engine to a walk that shows every rule every block.
+    virtual bool quiet_on_repeat(const Config&, const MacroSpec* spec) const {
+        (void)spec;
+        return false;
+    }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
     // another block (OSP004 once it knows where the program's content starts).

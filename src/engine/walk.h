@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -416,6 +417,32 @@ private:
     const std::vector<Rule*>* last_call_rules_ = nullptr;
     std::pair<const MacroSpec*, CallKind> last_call_of_{nullptr, CallKind::None};
     const std::vector<Rule*>& call_rules_of(const MacroCall& call);
+    // A block that repeats the one the rules saw just before it, moved in
+    // the plane (Rule::quiet_on_repeat): the rules that still see it.
+    struct Repeat {
+        bool armed = false;       // the last block the rules saw can be repeated
+        uint64_t transfers = 0;   // stats_.transfers and flow_epoch_ then: no block and no
+        uint64_t epoch = 0;       // other state came between it and the next one
+        const MacroSpec* spec = nullptr;
+        CallKind kind = CallKind::None;
+        std::string text;         // its line without the values of its plane's position words
+        std::array<uint32_t, 2> cuts{};  // where those values were cut out of `text`
+        uint8_t count = 0;               // how many were
+        const std::vector<Rule*>* rules = nullptr;  // the rules that are not quiet on a repeat of it
+    };
+    // Where the values of the plane's position words are on a block that may
+    // be repeated (offsets in its line): at most two.
+    struct RepeatSpans {
+        std::array<ByteRange, 2> at{};
+        uint8_t count = 0;
+    };
+    bool repeatable(const BlockView& view, const LineRef& line, RepeatSpans& spans) const;
+    bool same_apart_from_plane(const BlockView& view) const;
+    const std::vector<Rule*>& repeat_rules_of(const MacroSpec* spec, CallKind kind, bool plain_call);
+    Repeat repeat_;
+    std::map<std::tuple<const MacroSpec*, CallKind, bool>, std::vector<Rule*>> repeat_rules_of_;
+    uint64_t flow_epoch_ = 0;  // counts the states set other than by a block (set_state, joins)
+    uint64_t reports_ = 0;     // counts report and folded
     std::vector<char> plain_named_;   // of each, whether it is RuleBlocks::Named
     bool named_values_ = true;        // every RuleBlocks::Named rule takes plain values
     // Of each of them, its quiet_below as digits before the point (nullopt: none).

@@ -1,0 +1,128 @@
+// The engine leaves a rule out on a block that repeats the block before it
+// moved in the plane (Rule::quiet_on_repeat) exactly when it may: the
+// blocks a probe rule that says it may be left out is shown, on a program
+// that breaks each condition in turn. (That the built-in rules give the
+// same findings either way is test_engine.cpp's differential test.)
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "api/config.h"
+#include "engine/engine.h"
+#include "support/io.h"
+
+using namespace osplint;
+
+namespace {
+
+constexpr RuleMeta kProbe{
+    .id = "OSP999",
+    .name = "probe",
+    .severity = Severity::Warning,
+    .summary = "Notes the blocks it is shown; reports those with M9",
+};
+
+// Notes the line of every block it is shown, and reports a block with M9.
+class Probe final : public RuleBase<Probe> {
+public:
+    explicit Probe(std::vector<uint32_t>* lines) : lines_(lines) {}
+    const RuleMeta& meta() const override { return kProbe; }
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
+    void check_block(RuleContext& ctx, const BlockView& v) override {
+        lines_->push_back(v.block.line);
+        if (v.block.has_code("M", 9)) ctx.report(kProbe, v.block.range, "M9");
+    }
+
+private:
+    std::vector<uint32_t>* lines_;
+};
+
+class ProbeRules final : public RuleRegistry {
+public:
+    explicit ProbeRules(std::vector<uint32_t>* lines) : lines_(lines) {}
+    const std::vector<RuleMeta>& all() const override { return all_; }
+    std::vector<std::unique_ptr<Rule>> make_all() const override {
+        std::vector<std::unique_ptr<Rule>> rules;
+        rules.push_back(std::make_unique<Probe>(lines_));
+        return rules;
+    }
+
+private:
+    std::vector<uint32_t>* lines_;
+    std::vector<RuleMeta> all_{kProbe};
+};
+
+struct Shown {
+    std::vector<uint32_t> lines;
+    uint64_t repeats = 0;
+};
+
+Shown shown(const std::string& text) {
+    Shown out;
+    ProbeRules rules(&out.lines);
+    EngineOptions options;
+    options.rules = &rules;
+    MemorySource src(text);
+    DiscardFindings sink;
+    EngineStats stats;
+    const Config config;
+    CHECK(run_engine("probe.min", src, config, options, sink, &stats).empty());
+    out.repeats = stats.repeats;
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("engine: a rule is left out on a block that repeats the one before moved in the plane, and only then") {
+    const auto call = [](const std::string& x, const std::string& y, const std::string& r) {
+        return "CALL OZAGR PX=" + x + " PY=" + y + " PR=" + r + " PZ=-29. PI=6. PJ=1.5 PF=50 PS=600";
+    };
+    const std::string text =
+        "O1000\n"                                  // 1
+        "G15 H1\n"                                 // 2
+        "G0 G90 X0 Y0 Z50.\n"                      // 3
+        "S600 M3\n"                                // 4
+        + call("1.", "2.", "5.") + "\n"            // 5  the first call: sets the feed and Z
+        + call("2.", "2.", "5.") + "\n"            // 6  leaves the state as it found it but for X and Y
+        + call("3.", "2.", "5.") + "\n"            // 7  left out
+        + call("3.", "2.", "5.") + "\n"            // 8  left out: the same place
+        + call("4.", "2.", "4.") + "\n"            // 9  another value of another argument
+        + call("5.", "2.", "4.") + "\n"            // 10 from another Z (the end of 9 is at its R)
+        + call("6.", "2.", "4.") + " M9\n"         // 11 another word, and a finding
+        + call("7.", "2.", "4.") + " M9\n"         // 12 after a finding
+        + call("8.", "2.", "4.") + "\n"            // 13
+        + "G0 Z50.\n"                              // 14 a plain move, not shown to the rule
+        + call("9.", "2.", "4.") + "\n"            // 15 from another Z
+        + call("10.", "2.", "4.") + "\n"           // 16
+        + call("-11.5", "2.", "4.") + "\n"         // 17 left out
+        + "X20. Y20.\n"                            // 18 a plain move, which moves only in the plane
+        + call("12.", "2.", "4.") + "\n"           // 19 a block came between
+        + call("12.", "-3.", "4.") + "\n"          // 20 left out: PY moved
+        + call("13.", "3.", "4.") + " (HOLE)\n"    // 21 a comment
+        + call("14.", "4.", "4.") + " (HOLE)\n"    // 22 left out
+        + "N30 " + call("14.", "2.", "4.") + "\n"  // 23 a sequence name
+        + call("15.", "2.", "4.") + "\n"           // 24
+        + call("16.", "2.", "4.") + "\n"           // 25 left out
+        + "G81 X1. Y1. Z-10. R2. F100\n"           // 26 a fixed cycle starts
+        + "X2. Y1.\n"                              // 27 a hole
+        + "X3. Y2.\n"                              // 28 left out
+        + "X3. Y2. Z-12.\n"                        // 29 another depth
+        + "X4. Y2. Z-12.\n"                        // 30
+        + "X5. Y2. Z-12.\n"                        // 31 left out
+        + "G18\n"                                  // 32
+        + "X5. Y2. Z-12.\n"                        // 33 Y, now the cycle axis, returns
+        + "X5. Y2. Z-14.\n"                        // 34 in G18 Z and X are the plane's
+        + "X6. Y2. Z-16.\n"                        // 35 left out
+        + "X6. Y3. Z-16.\n"                        // 36 another depth
+        + "G80\n"                                  // 37
+        + "M30\n";                                 // 38
+    const Shown s = shown(text);
+    std::vector<uint32_t> left_out;
+    for (uint32_t line = 5; line <= 38; ++line)
+        if (std::find(s.lines.begin(), s.lines.end(), line) == s.lines.end()) left_out.push_back(line);
+    CHECK(left_out == std::vector<uint32_t>{7, 8, 14, 17, 18, 20, 22, 25, 28, 31, 35});
+    CHECK(s.repeats == left_out.size() - 2);  // all but the plain moves
+}
