@@ -17,6 +17,8 @@ constexpr RuleMeta kMeta{
 class SyntaxErrorRule final : public RuleBase<SyntaxErrorRule> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeated block has no syntax error.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no syntax error
     void check_block(RuleContext& ctx, const BlockView& v) override {
         for (const auto& e : v.block.errors) ctx.report(kMeta, e.range, e.message);

@@ -37,6 +37,8 @@ constexpr size_t kMaxDigits = 8;
 class DuplicateSequenceName final : public RuleBase<DuplicateSequenceName> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeated block has no sequence name.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no sequence name
     void begin_program(RuleContext&, const ProgramView&) override {
         first_.clear();

@@ -30,6 +30,8 @@ std::string upper_extension(std::string_view path) {
 class MissingProgramEnd final : public RuleBase<MissingProgramEnd> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeat has the words of the block before it, whose M02/M30 and place are known by then.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     void begin_program(RuleContext&, const ProgramView&) override {
         has_end_ = has_rts_ = false;
         anchor_.reset();

@@ -15,6 +15,8 @@ constexpr RuleMeta kMeta{
 class UnknownSubprogram final : public RuleBase<UnknownSubprogram> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeated block runs a catalog macro or none.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line calls a macro of the catalog
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;

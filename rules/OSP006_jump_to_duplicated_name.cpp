@@ -29,6 +29,8 @@ constexpr size_t kNotedDefinitions = 8;
 class JumpToDuplicatedName final : public RuleBase<JumpToDuplicatedName> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeated block has no sequence name and no jump.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no sequence name and no jump
     void begin_program(RuleContext&, const ProgramView&) override {
         defs_.clear();

@@ -119,6 +119,10 @@ void check_values(RuleContext& ctx, const MacroSpec& spec, const Lookup& lookup,
 class InvalidArgumentValue final : public RuleBase<InvalidArgumentValue> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat). Unless a constraint or relation it checks reads a position in the plane.
+    bool quiet_on_repeat(const Config& config, const MacroSpec* spec) const override {
+        return !macro::reads_position_value(config.catalog, spec);
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         std::optional<Plane> plane;
         if (v.before.plane.known) plane = v.before.plane.value;

@@ -15,6 +15,8 @@ constexpr RuleMeta kMeta{
 class RepeatCount final : public RuleBase<RepeatCount> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same Q word.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no Q word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;

@@ -15,6 +15,8 @@ constexpr RuleMeta kMeta{
 class M53WithoutPt final : public RuleBase<M53WithoutPt> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same PT, M words and return level.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     // Only a macro that returns to PT under M53.
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind) const override { return spec.m53 == M53Mode::ReturnToPT; }
     void check_block(RuleContext& ctx, const BlockView& v) override {

@@ -16,6 +16,10 @@ constexpr RuleMeta kMeta{
 class NoShift final : public RuleBase<NoShift> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat). Unless a shift it requires may be a position in the plane.
+    bool quiet_on_repeat(const Config&, const MacroSpec* spec) const override {
+        return !spec || !macro::reads_position_value(*spec);
+    }
     // Only a macro that needs one of some arguments, on the line that calls it.
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
         return !spec.at_least_one.empty() && kind != CallKind::ModinPositioning;

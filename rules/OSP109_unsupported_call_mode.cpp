@@ -39,6 +39,8 @@ std::string documented_forms(const MacroSpec& s) {
 class UnsupportedCallMode final : public RuleBase<UnsupportedCallMode> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same macro and kind of call, under the same G90/G91.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls_of(const MacroSpec&, CallKind kind) const override {
         return kind != CallKind::ModinPositioning;  // about the CALL or MODIN line
     }

@@ -26,6 +26,8 @@ const ActionStep* g17_only_return(const MacroSpec& s) {
 class UpperLimitReturnOutsideG17 final : public RuleBase<UpperLimitReturnOutsideG17> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same PM, M words and plane.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -16,6 +16,8 @@ constexpr RuleMeta kMeta{
 class ShiftWithoutAxis final : public RuleBase<ShiftWithoutAxis> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the shift arguments are not positions in the plane.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     // Only a macro with a tool-shift argument, on the line that calls it.
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
         if (kind == CallKind::ModinPositioning) return false;

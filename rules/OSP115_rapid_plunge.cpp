@@ -31,6 +31,8 @@ std::optional<std::pair<const ActionStep*, std::string>> rapid_plunge(const Macr
 class RapidPlunge final : public RuleBase<RapidPlunge> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same arguments given.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     // Only a macro that plunges at rapid without a feed argument, on the line that calls it.
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
         return kind != CallKind::ModinPositioning && rapid_plunge(spec).has_value();

@@ -79,6 +79,10 @@ struct Site {
 class ManualCaution final : public RuleBase<ManualCaution> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat). Unless a caution's condition reads a position in the plane.
+    bool quiet_on_repeat(const Config& config, const MacroSpec* spec) const override {
+        return !macro::reads_position_value(config.catalog, spec);
+    }
     // Only a macro with cautions, where it is commanded.
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
         return !spec.cautions.empty() && kind != CallKind::ModinPositioning;

@@ -27,6 +27,8 @@ std::string forbidding_source(const Catalog& catalog, const MacroSpec& s) {
 class G60WithNcyl final : public RuleBase<G60WithNcyl> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeated block has no NCYL, and the macro that may collide is known by then.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
 
     void begin_program(RuleContext&, const ProgramView&) override {
         pending_.clear();

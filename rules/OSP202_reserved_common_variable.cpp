@@ -40,6 +40,10 @@ struct Clobber {
 class ReservedCommonVariable final : public RuleBase<ReservedCommonVariable> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat). Unless the macro overwrites VC120-VC128: each call is noted (the first three, where they are).
+    bool quiet_on_repeat(const Config&, const MacroSpec* spec) const override {
+        return !spec || !spec->has(Hazard::OverwritesVc120To128);
+    }
 
     void begin_program(RuleContext&, const ProgramView&) override {
         uses_.clear();

@@ -20,6 +20,8 @@ constexpr RuleMeta kMeta{
 class ModalCallLeftOpen final : public RuleBase<ModalCallLeftOpen> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a MODIN line is never one (it changes the state or is reported).
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
 
     void begin_program(RuleContext&, const ProgramView&) override { modins_.clear(); }
 

@@ -35,6 +35,8 @@ std::string cancel_hint(const RuleContext& ctx, const ActiveCycle& c) {
 class FixedCycleNotCancelled final : public RuleBase<FixedCycleNotCancelled> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a block after an M02, M30 or RTS that ends the program is reached by no path.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line neither ends the program nor runs under a fixed cycle
 
     void begin_program(RuleContext&, const ProgramView&) override { end_block_.reset(); }

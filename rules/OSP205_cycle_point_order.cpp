@@ -27,6 +27,8 @@ bool reversed_cycle(int code) { return code == 79 || code == 87; }
 class CyclePointOrder final : public RuleBase<CyclePointOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): it reads the cycle-axis position, not the plane's, and reports a violation once.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
 
     void begin_program(RuleContext&, const ProgramView&) override {

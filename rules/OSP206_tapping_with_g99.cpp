@@ -32,6 +32,8 @@ const Word* g_word(const Block& b, double code) {
 class TappingWithG99 final : public RuleBase<TappingWithG99> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same cycle and return mode.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);

@@ -18,6 +18,8 @@ constexpr RuleMeta kMeta{
 class CodeNotAlone final : public RuleBase<CodeNotAlone> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same M words.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;

@@ -19,6 +19,8 @@ constexpr RuleMeta kMeta{
 class G114CancelledByG80 final : public RuleBase<G114CancelledByG80> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same G words under the same cycle.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.before);

@@ -18,6 +18,8 @@ constexpr RuleMeta kMeta{
 class G114ReturnNotFaster final : public RuleBase<G114ReturnNotFaster> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same FA and F under the same feed.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call runs a CALL or MODIN macro, not a G-code one
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;

@@ -28,6 +28,10 @@ bool positions_hole(const Block& b) {
 class G114DeclarationNotTapped final : public RuleBase<G114DeclarationNotTapped> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a G114
+    // line starts its cycle, so it changes the state and is never one; a hole
+    // only settles the G114 line just before it, which a repeat never follows.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     // A pending declaration is settled on the block that ends its cycle, so
     // none is pending when a plain move runs (no cycle is modal then).
 

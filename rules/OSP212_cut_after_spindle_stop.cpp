@@ -32,6 +32,8 @@ bool has_axis(const Block& b) {
 class CutAfterSpindleStop final : public RuleBase<CutAfterSpindleStop> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same spindle state; a cut after a stop is reported once.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
 
     void begin_program(RuleContext&, const ProgramView&) override {
         stops_.clear();

@@ -15,6 +15,8 @@ constexpr RuleMeta kMeta{
 class G100OutsideCycle final : public RuleBase<G100OutsideCycle> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same G words under the same cycle.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no G word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Word* g100 = nullptr;

@@ -15,6 +15,8 @@ constexpr RuleMeta kMeta{
 class M843BeforeSpeed final : public RuleBase<M843BeforeSpeed> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same M words, speed commanded or not as before.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (!v.after.speed_commanded.is(false)) return;  // an S on the same block counts

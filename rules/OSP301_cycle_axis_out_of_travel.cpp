@@ -49,6 +49,10 @@ ByteRange where_for(const BlockView& v, const Envelope& env, const MotionPoint& 
 class CycleAxisOutOfTravel final : public RuleBase<CycleAxisOutOfTravel> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat). Only without travel limits: with them, the position in the plane is what it checks.
+    bool quiet_on_repeat(const Config& config, const MacroSpec*) const override {
+        return config.travel.empty();
+    }
     // Plain moves are checked against the travel limits, when there are any.
     bool sees_plain_moves(const Config& config) const override { return !config.travel.empty(); }
     void check_block(RuleContext& ctx, const BlockView& v) override {

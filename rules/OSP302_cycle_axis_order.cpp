@@ -125,6 +125,10 @@ bool is_point(const std::string& text, const MacroSpec& spec) {
 class CycleAxisOrder final : public RuleBase<CycleAxisOrder> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat). Unless a relation it checks reads a position in the plane.
+    bool quiet_on_repeat(const Config&, const MacroSpec* spec) const override {
+        return !spec || !macro::reads_position_value(*spec);
+    }
     // Only a macro whose catalog entry orders its points (not a cycle macro: G114).
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind) const override {
         return !spec.relations.empty() && !(spec.has_form(MacroForm::GCode) && !spec.cancel.empty());

@@ -22,6 +22,8 @@ constexpr RuleMeta kMeta{
 class UnusedSuppression final : public RuleBase<UnusedSuppression> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
+    // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): it sees no block.
+    bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
 };
 
 }  // namespace

@@ -121,6 +121,60 @@ private:
 // The argument as given (by its name or one of its aliases), or nullptr.
 inline const MacroArg* given(const MacroCall& c, const ArgSpec& a) { return c.given(a); }
 
+// Whether `a`, an argument of `spec`, may give a position in the plane: a
+// positioning-plane argument (ArgRole::Position), or one written X, Y or Z
+// (a fixed cycle's address, or a G-code macro's through its address map).
+inline bool gives_position(const MacroSpec& spec, const ArgSpec& a) {
+    const auto axis = [](std::string_view n) { return n == "X" || n == "Y" || n == "Z"; };
+    if (a.role == ArgRole::Position || axis(a.name)) return true;
+    for (const auto& alias : a.aliases)
+        if (axis(alias)) return true;
+    for (const char* address : {"X", "Y", "Z"})
+        if (spec.arg_for_address(address) == &a) return true;
+    return false;
+}
+
+// Whether a value constraint, a relation, a condition or an at-least-one
+// requirement of `spec` reads the value of such an argument: a rule that
+// checks them cannot say a block moved in the plane repeats the one before
+// (Rule::quiet_on_repeat). Whether an argument is given does not count: a
+// repeat gives the same ones.
+inline bool reads_position_value(const MacroSpec& spec) {
+    for (const ArgSpec& a : spec.args)
+        if ((!a.allowed.empty() || a.sign != ArgSign::Any) && gives_position(spec, a)) return true;
+    const auto names_position = [&](const std::string& name) {
+        const ArgSpec* a = spec.arg(name);
+        return a && gives_position(spec, *a);
+    };
+    const auto condition = [&](const Condition& c) {
+        for (const ConditionAtom* at : c.atoms())
+            if (at->kind == ConditionAtom::Kind::ArgEquals && names_position(at->arg)) return true;
+        return false;
+    };
+    RelationSides local;
+    for (size_t i = 0; i < spec.relations.size(); ++i) {
+        const RelationSides& sides = sides_of(spec, i, local);
+        for (const std::vector<int>* args : {&sides.left_args, &sides.right_args})
+            for (int k : *args)
+                if (k >= 0 && gives_position(spec, spec.args[static_cast<size_t>(k)])) return true;
+        if (condition(spec.relations[i].when)) return true;
+    }
+    for (const Caution& c : spec.cautions)
+        if (condition(c.when)) return true;
+    for (const auto& req : spec.at_least_one)
+        for (const auto& n : req.args)
+            if (names_position(n)) return true;
+    return false;
+}
+// The same for a block that runs `spec`, or (nullptr) no catalog macro: then
+// of every fixed cycle, which such a block may run.
+inline bool reads_position_value(const Catalog& catalog, const MacroSpec* spec) {
+    if (spec) return reads_position_value(*spec);
+    for (const CycleSpec& c : catalog.cycles())
+        if (reads_position_value(c)) return true;
+    return false;
+}
+
 // Where a fact of the catalog is printed, as a citation: the manual and the
 // section holding `line_source` (else the macro's own source). A shop's
 // macro from a manual outside the citation table is named as its entry says.
