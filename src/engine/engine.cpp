@@ -982,11 +982,11 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
         // plane (the two states are one another's but for it, both times),
         // and no block or other state came between.
         RepeatSpans spans;
-        const bool may_repeat = repeatable(view, line, spans) && same_apart_from_plane(view);
+        const bool eligible = repeatable(view, line, spans);
         const MacroSpec* spec = view.call ? view.call->spec : nullptr;
         const CallKind kind = view.call ? view.call->kind : CallKind::None;
         bool repeat = false;
-        if (may_repeat && repeat_.armed && repeat_.transfers + 1 == stats_.transfers && repeat_.epoch == flow_epoch_ &&
+        if (eligible && repeat_.armed && repeat_.transfers + 1 == stats_.transfers && repeat_.epoch == flow_epoch_ &&
             repeat_.spec == spec && repeat_.kind == kind && repeat_.count == spans.count) {
             const std::string_view t = line.text;
             const std::string& k = repeat_.text;
@@ -1001,6 +1001,7 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
                 at = cut;
                 if (i < spans.count) from = spans.at[i].end;
             }
+            repeat = repeat && same_apart_from_plane(view);
         }
         const uint64_t reports = reports_;
         if (repeat) {
@@ -1011,7 +1012,9 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
         } else {
             for (auto& r : rules_) r->check_block(*this, view);
         }
-        repeat_.armed = may_repeat && reports_ == reports;
+        // The state compared once: before the rules for a repeat, after them
+        // for a block that may start one (and then only when it was quiet).
+        repeat_.armed = eligible && reports_ == reports && (repeat || same_apart_from_plane(view));
         if (repeat_.armed) {
             repeat_.transfers = stats_.transfers;
             repeat_.epoch = flow_epoch_;
