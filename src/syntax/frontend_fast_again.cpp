@@ -138,8 +138,30 @@ bool FastLineParser::Impl::again_call(const LineRef& line, Block& out) {
     // moved by `shift` for the latter.
     exprs_used = 0;
     exprs_have = out.exprs.size();
+    // The line starts elsewhere in the file: the ranges of an argument read
+    // as it was move by as much (and by `shift` more from `last` on).
+    const uint32_t moved = base - g.range.begin;  // modulo 2^32, as the offsets add up
     for (size_t k = 0; k < count; ++k) {
         CallArg& a = g.args[k];
+        if (!reshape && (k < first || k >= last)) {
+            uint32_t d = moved;
+            if (k >= last) {
+                const auto by = [&](uint32_t x) { return static_cast<uint32_t>(x + shift); };
+                a = {by(a.begin), by(a.name_end), by(a.value_begin), by(a.end), a.sign, false};
+                d += static_cast<uint32_t>(shift);
+            }
+            const auto move = [d](ByteRange& r) {
+                r.begin += d;
+                r.end += d;
+            };
+            Word& w = out.words[k];
+            move(w.range);
+            move(w.address_range);
+            move(w.value_range);
+            move(out.exprs[exprs_used++].range);
+            if (a.sign) move(out.exprs[exprs_used++].range);
+            continue;
+        }
         if (k >= first && k < last) {
             a = now[k];
         } else if (k >= last) {
