@@ -643,9 +643,11 @@ void Walk::visit(const Block& b, const LineRef& line, Mode mode) {
     // cycle, under MODIN) is parsed whole; a block read whole stays as it is.
     read_whole(b, line);
     const MacroCall* call = resolve(b, *A_);
-    apply_block(b, call, config_.catalog, *A_, *B_, &macro_ends_, &call_transfers_);
+    RepeatSpans spans;
+    const Repeated again = rules ? repeated(b, call, *A_, line, spans) : Repeated::No;
+    apply_block(b, call, config_.catalog, *A_, *B_, &macro_ends_, &call_transfers_, again == Repeated::Yes);
     near_ = false;
-    if (rules) check(BlockView{b, *A_, *B_, call, true}, line, false);
+    if (rules) check(BlockView{b, *A_, *B_, call, true}, line, false, again, spans);
     leave(b, line);
 }
 
@@ -914,17 +916,16 @@ const std::vector<Rule*>& Walk::repeat_rules_of(const MacroSpec* spec, CallKind 
 // whose numbers are written out, perhaps one CALL or MODIN of a catalog
 // macro, in a known plane; `spans` gets where the values of the plane's
 // position words are in the line.
-bool Walk::repeatable(const BlockView& view, const LineRef& line, RepeatSpans& spans) const {
-    const Block& b = view.block;
-    if (!view.reachable || b.kind != LineKind::Block || b.program_name || b.sequence || b.block_delete ||
-        !b.assignments.empty() || !b.errors.empty() || !view.before.plane.known || b.line_start != line.start)
+bool Walk::repeatable(const Block& b, const MacroCall* c, const ModalState& before, const LineRef& line,
+                      RepeatSpans& spans) const {
+    if (b.kind != LineKind::Block || b.program_name || b.sequence || b.block_delete || !b.assignments.empty() ||
+        !b.errors.empty() || !before.plane.known || b.line_start != line.start)
         return false;
-    const MacroCall* c = view.call;
     if (c && (!c->spec || c->summary)) return false;
     const bool call_line = c && (c->kind == CallKind::Call || c->kind == CallKind::Modin);
     if (call_line ? b.statements.size() != 1 : !b.statements.empty()) return false;
     if (c && c->kind == CallKind::MCode) return false;
-    const PlaneAxes axes = plane_axes(view.before.plane.value);
+    const PlaneAxes axes = plane_axes(before.plane.value);
     spans.count = 0;
     const auto add = [&](const Word& w) {
         if (!w.number || spans.count == 2 || w.value_range.begin < line.start ||
@@ -934,7 +935,7 @@ bool Walk::repeatable(const BlockView& view, const LineRef& line, RepeatSpans& s
         return true;
     };
     if (call_line) {
-        const int plane = view.before.plane.value == Plane::G17 ? 17 : view.before.plane.value == Plane::G18 ? 18 : 19;
+        const int plane = before.plane.value == Plane::G17 ? 17 : before.plane.value == Plane::G18 ? 18 : 19;
         for (const char axis : {axes.first, axes.second}) {
             const ArgSpec* a = c->spec->position_arg(plane, axis);
             const MacroArg* m = a ? c->given(*a) : nullptr;
@@ -947,6 +948,36 @@ bool Walk::repeatable(const BlockView& view, const LineRef& line, RepeatSpans& s
                 return false;
     }
     return true;
+}
+
+// Whether the block repeats the one the rules saw just before it: the same
+// line but for the values of the plane's position words, with no block and
+// no other state between, after a block that was quiet and left the state
+// as it found it but for the position in the plane (Walk::check). Then the
+// state before it is that block's but for that position, and the transfer
+// step may take the memos that block left as they are (apply_block).
+Walk::Repeated Walk::repeated(const Block& b, const MacroCall* c, const ModalState& before, const LineRef& line,
+                              RepeatSpans& spans) const {
+    if (!repeatable(b, c, before, line, spans)) return Repeated::No;
+    const MacroSpec* spec = c ? c->spec : nullptr;
+    const CallKind kind = c ? c->kind : CallKind::None;
+    if (!repeat_.armed || repeat_.transfers + 1 != stats_.transfers || repeat_.epoch != flow_epoch_ ||
+        repeat_.spec != spec || repeat_.kind != kind || repeat_.count != spans.count)
+        return Repeated::May;
+    const std::string_view t = line.text;
+    const std::string& k = repeat_.text;
+    uint32_t cut_len = 0;
+    for (uint8_t i = 0; i < spans.count; ++i) cut_len += spans.at[i].size();
+    if (t.size() - cut_len != k.size()) return Repeated::May;
+    uint32_t from = 0, at = 0;
+    for (uint8_t i = 0; i <= spans.count; ++i) {
+        const uint32_t to = i < spans.count ? spans.at[i].begin : static_cast<uint32_t>(t.size());
+        const uint32_t cut = i < spans.count ? repeat_.cuts[i] : static_cast<uint32_t>(k.size());
+        if (cut - at != to - from || t.compare(from, to - from, k, at, cut - at) != 0) return Repeated::May;
+        at = cut;
+        if (i < spans.count) from = spans.at[i].end;
+    }
+    return Repeated::Yes;
 }
 
 // Whether the state after the block is the state before it but for the
@@ -965,7 +996,7 @@ bool Walk::same_apart_from_plane(const BlockView& view) const {
     return same;
 }
 
-void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
+void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeated again, const RepeatSpans& spans) {
     if (plain) {
         // Where paths join (a name a jump or N word names), the state may not be
         // what a rule saw last: every rule that sees plain moves sees the move.
@@ -977,32 +1008,10 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
         repeat_.armed = false;
     } else {
         const bool plain_call = is_plain_call(view);
-        // A repeat of the block before: the block, the state before it and
-        // the state after it are that block's but for the position in the
-        // plane (the two states are one another's but for it, both times),
-        // and no block or other state came between.
-        RepeatSpans spans;
-        const bool eligible = repeatable(view, line, spans);
-        const MacroSpec* spec = view.call ? view.call->spec : nullptr;
-        const CallKind kind = view.call ? view.call->kind : CallKind::None;
-        bool repeat = false;
-        if (eligible && repeat_.armed && repeat_.transfers + 1 == stats_.transfers && repeat_.epoch == flow_epoch_ &&
-            repeat_.spec == spec && repeat_.kind == kind && repeat_.count == spans.count) {
-            const std::string_view t = line.text;
-            const std::string& k = repeat_.text;
-            uint32_t cut_len = 0;
-            for (uint8_t i = 0; i < spans.count; ++i) cut_len += spans.at[i].size();
-            repeat = t.size() - cut_len == k.size();
-            uint32_t from = 0, at = 0;
-            for (uint8_t i = 0; repeat && i <= spans.count; ++i) {
-                const uint32_t to = i < spans.count ? spans.at[i].begin : static_cast<uint32_t>(t.size());
-                const uint32_t cut = i < spans.count ? repeat_.cuts[i] : static_cast<uint32_t>(k.size());
-                repeat = cut - at == to - from && t.compare(from, to - from, k, at, cut - at) == 0;
-                at = cut;
-                if (i < spans.count) from = spans.at[i].end;
-            }
-            repeat = repeat && same_apart_from_plane(view);
-        }
+        // A repeat of the block before (Walk::repeated) whose state after it
+        // is, as that one's was, the state before it but for the position in
+        // the plane: the rules see what they saw on that block, moved.
+        const bool repeat = again == Repeated::Yes && same_apart_from_plane(view);
         const uint64_t reports = reports_;
         if (repeat) {
             ++stats_.repeats;
@@ -1014,13 +1023,14 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
         }
         // The state compared once: before the rules for a repeat, after them
         // for a block that may start one (and then only when it was quiet).
-        repeat_.armed = eligible && reports_ == reports && (repeat || same_apart_from_plane(view));
+        repeat_.armed =
+            again != Repeated::No && reports_ == reports && (repeat || same_apart_from_plane(view));
         if (repeat_.armed) {
             repeat_.transfers = stats_.transfers;
             repeat_.epoch = flow_epoch_;
             if (!repeat) {
-                repeat_.spec = spec;
-                repeat_.kind = kind;
+                repeat_.spec = view.call ? view.call->spec : nullptr;
+                repeat_.kind = view.call ? view.call->kind : CallKind::None;
                 repeat_.count = spans.count;
                 repeat_.text.clear();
                 uint32_t from = 0;
@@ -1030,7 +1040,7 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain) {
                     from = spans.at[i].end;
                 }
                 repeat_.text.append(line.text.substr(from));
-                repeat_.rules = &repeat_rules_of(spec, kind, plain_call);
+                repeat_.rules = &repeat_rules_of(repeat_.spec, repeat_.kind, plain_call);
             }
         }
     }

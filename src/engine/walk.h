@@ -393,7 +393,6 @@ private:
     // A plain move: the state it starts from in B (from A), then B flows on.
     ModalState& plain_after();
     void plain_done(const LineRef& line);
-    void check(const BlockView& view, const LineRef& line, bool plain);
 
     // --- findings
     std::string fingerprint_for(std::string_view rule, uint32_t line);
@@ -436,13 +435,25 @@ private:
         std::array<ByteRange, 2> at{};
         uint8_t count = 0;
     };
-    bool repeatable(const BlockView& view, const LineRef& line, RepeatSpans& spans) const;
+    bool repeatable(const Block& b, const MacroCall* call, const ModalState& before, const LineRef& line,
+                    RepeatSpans& spans) const;
+    // No: the block cannot repeat one nor be repeated; May: it may be
+    // repeated; Yes: it repeats the block before but for the state after it.
+    enum class Repeated : uint8_t { No, May, Yes };
+    Repeated repeated(const Block& b, const MacroCall* call, const ModalState& before, const LineRef& line,
+                      RepeatSpans& spans) const;
     bool same_apart_from_plane(const BlockView& view) const;
     const std::vector<Rule*>& repeat_rules_of(const MacroSpec* spec, CallKind kind, bool plain_call);
     Repeat repeat_;
     std::map<std::tuple<const MacroSpec*, CallKind, bool>, std::vector<Rule*>> repeat_rules_of_;
     uint64_t flow_epoch_ = 0;  // counts the states set other than by a block (set_state, joins)
     uint64_t reports_ = 0;     // counts report and folded
+    // The rules on a block (a plain move, or not: then `repeated` and `spans`
+    // are what Walk::repeated said of it).
+    void check(const BlockView& view, const LineRef& line, bool plain, Repeated repeated, const RepeatSpans& spans);
+    void check(const BlockView& view, const LineRef& line, bool plain) {
+        check(view, line, plain, Repeated::No, RepeatSpans{});
+    }
     std::vector<char> plain_named_;   // of each, whether it is RuleBlocks::Named
     bool named_values_ = true;        // every RuleBlocks::Named rule takes plain values
     // Of each of them, its quiet_below as digits before the point (nullopt: none).

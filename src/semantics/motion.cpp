@@ -4,6 +4,7 @@
 // motion_macro.cpp and motion_hole.cpp (motion_internal.h lists the files).
 #include "semantics/motion.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -226,8 +227,26 @@ std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before,
     return std::nullopt;
 }
 
+bool motion_detail::steps_read_plane(const MacroSpec& spec, Plane plane) {
+    const std::vector<uint16_t>* reads = spec.action_args();
+    if (!reads) return true;
+    const int number = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+    const PlaneAxes pa = plane_axes(plane);
+    const auto read = [&](const ArgSpec* a) {
+        if (!a) return false;
+        const auto index = static_cast<uint16_t>(a - spec.args.data());
+        return std::find(reads->begin(), reads->end(), index) != reads->end();
+    };
+    for (char axis : {pa.first, pa.second})
+        if (read(spec.arg_for_address(std::string_view(&axis, 1))) || read(spec.position_arg(number, axis)))
+            return true;
+    return false;
+}
+
 std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
-                                                 const MacroCall* call, MacroEndMemo* memo) {
+                                                 const MacroCall* call, MacroEndMemo* memo, bool repeat) {
+    const bool fresh = memo && memo->fresh;
+    if (memo) memo->fresh = false;
     if (!runs_macro(b, call)) return std::nullopt;
     const MacroSpec& spec = *call->spec;
     // Under G91 a macro that does not support it moves elsewhere; in inch a
@@ -238,9 +257,14 @@ std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalStat
     if (!memo) return macro_end_point(b, before, after, *call, spec);
     static const TravelLimits kNoTravel;  // macro_end_point knows no travel limits
     const BlockView v{b, before, after, call};
-    if (memo->call.same(v, kNoTravel)) return memo->end;
+    if ((repeat && fresh && before.plane.known && !motion_detail::steps_read_plane(spec, before.plane.value)) ||
+        memo->call.same(v, kNoTravel)) {
+        memo->fresh = true;
+        return memo->end;
+    }
     memo->end = macro_end_point(b, before, after, *call, spec);
     memo->call.remember(v, kNoTravel);
+    memo->fresh = memo->call.holds();
     return memo->end;
 }
 

@@ -173,6 +173,8 @@ public:
     // Remembers `v`, when it runs a macro whose steps' reads are listed;
     // otherwise forgets.
     void remember(const BlockView& v, const TravelLimits& travel);
+    // Whether a call is remembered (remember forgets one whose steps' reads are not listed).
+    bool holds() const { return key_.spec != nullptr; }
 
 private:
     struct Key {
@@ -238,9 +240,14 @@ private:
 struct MacroEndMemo {
     MacroAxisMemo call;
     std::optional<std::pair<char, double>> end;
+    bool fresh = false;  // the last call of macro_end with it found `end` there, or remembered it
 };
+// `repeat`: as apply_block's; the end point is then the memo's, when the
+// last call found or remembered it there and the macro's steps read no
+// argument the plane's axes give.
 std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
-                                                 const MacroCall* call, MacroEndMemo* memo = nullptr);
+                                                 const MacroCall* call, MacroEndMemo* memo = nullptr,
+                                                 bool repeat = false);
 
 // A point outside `[machine.travel]`.
 struct TravelViolation {

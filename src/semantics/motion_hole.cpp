@@ -567,16 +567,8 @@ HoleAxisMemo::Key HoleAxisMemo::key_of(const BlockView& v, const Config& config)
     if (!c.macro.empty()) {
         // The steps of a G-code macro cycle read its arguments: not one a
         // plane axis's word gives (the word changes from hole to hole).
-        if (const MacroSpec* spec = config.catalog.find(c.macro); spec && !spec->action.empty()) {
-            const std::vector<uint16_t>* reads = spec->action_args();
-            if (!reads) return k;
-            for (char axis : {pa.first, pa.second}) {
-                const ArgSpec* a = spec->arg_for_address(std::string_view(&axis, 1));
-                if (!a) continue;
-                const auto index = static_cast<uint16_t>(a - spec->args.data());
-                if (std::find(reads->begin(), reads->end(), index) != reads->end()) return k;
-            }
-        }
+        if (const MacroSpec* spec = config.catalog.find(c.macro); spec && !spec->action.empty())
+            if (motion_detail::steps_read_plane(*spec, before.plane.value)) return k;
     } else if (c.code == 88) {
         return k;  // the shifts after Z move in the plane, from the hole
     }

@@ -130,6 +130,12 @@ void finish(Envelope& env);
 // Whether the block runs a catalog macro with an action sequence: a CALL, a
 // positioning block of an open MODIN (not under NCYL), a one-shot G-code macro.
 bool runs_macro(const Block& b, const MacroCall* call);
+// Whether the action steps of `spec` may read an argument a positioning
+// axis of `plane` gives (its positioning argument, or the argument the
+// axis's address stands for in the G-code form): true when its steps' reads
+// are not listed (MacroSpec::action_args). Such a macro's points move with
+// the position in the plane.
+bool steps_read_plane(const MacroSpec& spec, Plane plane);
 
 // `config` nullptr: the + travel limit (M52) is not known. `describe` false:
 // the numbers and flags only (EnvelopeDetail::Values). `steps` false: no

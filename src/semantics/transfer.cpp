@@ -735,11 +735,11 @@ bool plain_catalog_call(const Block& b, const MacroCall* call) {
 // The end of apply_block: the end point of a catalog macro's run, and what a
 // user subprogram leaves behind.
 void finish_block(const Block& b, const ModalState& before, const MacroCall* call, bool runs_program,
-                  MacroEndMemo* ends, ModalState& s) {
+                  MacroEndMemo* ends, ModalState& s, bool repeat) {
     // A catalog macro's action sequence says where it leaves the cycle axis;
     // the other axes stay unknown after it.
     if (runs_program)
-        if (auto end = macro_end(b, before, s, call, ends))
+        if (auto end = macro_end(b, before, s, call, ends, repeat))
             if (Val<double>* ax = s.axis_ref(end->first)) *ax = Val<double>::of(end->second);
     // What a user subprogram this block calls leaves behind; the modes it sets
     // are set at the call.
@@ -769,8 +769,10 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
 }
 
 void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, const ModalState& before,
-                 ModalState& s, MacroEndMemo* ends, CallTransferMemo* calls) {
+                 ModalState& s, MacroEndMemo* ends, CallTransferMemo* calls, bool repeat) {
     assert(&before != &s);
+    const bool fresh = calls && calls->fresh;
+    if (calls) calls->fresh = false;
     if (b.kind != LineKind::Block) {
         s = before;
         return;
@@ -779,7 +781,8 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         // The one-shots of the block before are not the state this block reads.
         ModalState clean = before;
         clean.clear_one_shots();
-        apply_block(b, call, catalog, clean, s, ends, calls);
+        if (calls) calls->fresh = fresh;
+        apply_block(b, call, catalog, clean, s, ends, calls, repeat);
         return;
     }
     const bool plain = calls && plain_catalog_call(b, call);
@@ -789,11 +792,14 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
         m.before.x = before.x;
         m.before.y = before.y;
         m.before.z = before.z;
-        const MacroArg* ps = call->arg("PS");
-        if (ArgSeen::of(ps) == m.ps && (call->arg("PF") != nullptr) == m.pf && m.before == before) {
+        // A repeat of the call the memo last served reads what that one read.
+        const MacroArg* ps = repeat && fresh ? nullptr : call->arg("PS");
+        if ((repeat && fresh) ||
+            (ArgSeen::of(ps) == m.ps && (call->arg("PF") != nullptr) == m.pf && m.before == before)) {
             s = m.partial;
             ++m.hits;
-            finish_block(b, m.before, call, true, ends, s);
+            m.fresh = true;
+            finish_block(b, m.before, call, true, ends, s, repeat);
             return;
         }
     }
@@ -818,9 +824,10 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
             calls->pf = call->arg("PF") != nullptr;
             calls->before = before;
             calls->partial = s;
+            calls->fresh = true;
         }
     }
-    finish_block(b, before, call, f.runs_program, ends, s);
+    finish_block(b, before, call, f.runs_program, ends, s, repeat);
 }
 
 bool is_plain_move_block(const Block& b) {

@@ -33,6 +33,7 @@ struct CallTransferMemo {
     bool pf = false;
     ModalState before, partial;
     uint64_t hits = 0;  // the calls applied from it
+    bool fresh = false;  // the last block apply_block applied was applied from it, or made it
 };
 
 // Applies one block to the state. `ends`, when set, is the walk's memo of
@@ -43,8 +44,14 @@ void apply_block(const Block& block, const MacroCall* call, const Catalog& catal
 // The same from `before` (the walk's state before the block, left as it
 // is) into `state`, another object, which it overwrites: no copy of the
 // state before is made, and none at all for a call CallTransferMemo knows.
+// `repeat`: the block is the last one applied with these memos but for the
+// values of the words that give the position in the plane, and `before` is
+// the state before that one but for the position in the plane (the walk's
+// repeated blocks, Rule::quiet_on_repeat); the memos then hold for it
+// without comparing their keys again, where their keys read no such value.
 void apply_block(const Block& block, const MacroCall* call, const Catalog& catalog, const ModalState& before,
-                 ModalState& state, MacroEndMemo* ends = nullptr, CallTransferMemo* calls = nullptr);
+                 ModalState& state, MacroEndMemo* ends = nullptr, CallTransferMemo* calls = nullptr,
+                 bool repeat = false);
 
 // Resolves the macro or subprogram a block invokes, with evaluated arguments
 // (`links`: see link_arg_specs).
