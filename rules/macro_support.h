@@ -279,7 +279,7 @@ inline void add_may_notes(RuleContext& ctx, Diagnostic& d, const Origin& o, std:
         d.notes.push_back({"the path with " + std::string(mode) + " jumps here", ctx.resolve(o.via_range)});
 }
 
-inline int plane_number(Plane p) { return p == Plane::G17 ? 17 : p == Plane::G18 ? 18 : 19; }
+using osplint::plane_number;
 
 // Levenshtein distance, for "did you mean" suggestions.
 inline size_t edit_distance(std::string_view a, std::string_view b) {

@@ -935,7 +935,7 @@ bool Walk::repeatable(const Block& b, const MacroCall* c, const ModalState& befo
         return true;
     };
     if (call_line) {
-        const int plane = before.plane.value == Plane::G17 ? 17 : before.plane.value == Plane::G18 ? 18 : 19;
+        const int plane = plane_number(before.plane.value);
         for (const char axis : {axes.first, axes.second}) {
             const ArgSpec* a = c->spec->position_arg(plane, axis);
             const MacroArg* m = a ? c->given(*a) : nullptr;

@@ -360,7 +360,7 @@ std::string omitted_text(const ArgSpec& a) {
 
 int plane_number(const ModalState* s) {
     if (!s || !s->plane.known) return 0;
-    return s->plane.value == Plane::G17 ? 17 : s->plane.value == Plane::G18 ? 18 : 19;
+    return plane_number(s->plane.value);
 }
 
 std::string rule_doc(std::string_view id) {

@@ -103,6 +103,7 @@ struct PlaneAxes {
 };
 PlaneAxes plane_axes(Plane p);
 const char* plane_name(Plane p);  // "G17"
+inline int plane_number(Plane p) { return p == Plane::G17 ? 17 : p == Plane::G18 ? 18 : 19; }  // 17, 18, 19
 
 // An active fixed cycle (G73..G89, G77, G78, G186, ... or a registered G-code
 // macro cycle such as G114): its code and the values commanded so far.

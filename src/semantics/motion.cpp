@@ -230,7 +230,7 @@ std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before,
 bool motion_detail::steps_read_plane(const MacroSpec& spec, Plane plane) {
     const std::vector<uint16_t>* reads = spec.action_args();
     if (!reads) return true;
-    const int number = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+    const int number = plane_number(plane);
     const PlaneAxes pa = plane_axes(plane);
     const auto read = [&](const ArgSpec* a) {
         if (!a) return false;

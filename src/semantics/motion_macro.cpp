@@ -99,7 +99,7 @@ struct MacroRun {
         using K = ConditionAtom::Kind;
         switch (a.kind) {
             case K::Plane: {
-                const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+                const int pn = plane_number(plane);
                 return pn == a.number ? Tri::True : Tri::False;
             }
             case K::Distance:
@@ -290,7 +290,7 @@ PlaneCentre plane_centre(const MacroRun& run, Envelope& env) {
     const Block& b = run.b;
     const ModalState& before = run.before;
     const PlaneAxes pa = plane_axes(run.plane);
-    const int pn = run.plane == Plane::G17 ? 17 : run.plane == Plane::G18 ? 18 : 19;
+    const int pn = plane_number(run.plane);
     PlaneCentre centre;
     for (char a : {pa.first, pa.second}) {
         std::optional<double> v;
@@ -370,7 +370,7 @@ bool compensated(const MacroSpec& spec) {
 // centre; steps 3/13 shift the oriented tool by PI/PJ(/PK).
 void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane, bool describe) {
     const PlaneAxes pa = plane_axes(plane);
-    const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+    const int pn = plane_number(plane);
     auto d = spread.known("PC");
     if (!d) return;
     double r = std::fabs(*d) / 2;
@@ -396,7 +396,7 @@ void counterbore_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread
 // one end of it.
 void slot_spans(Envelope& env, const MacroSpec& spec, PlaneSpread& spread, Plane plane, bool describe) {
     const PlaneAxes pa = plane_axes(plane);
-    const int pn = plane == Plane::G17 ? 17 : plane == Plane::G18 ? 18 : 19;
+    const int pn = plane_number(plane);
     const ArgSpec* pi = spec.arg("PI");
     if (!pi) return;
     auto along = pi->axis(pn);
