@@ -64,6 +64,11 @@ public:
     // and `O` and a name, as parse reads them (no sequence name, no block
     // delete before them); 0 for any other line.
     uint32_t call_head_end(const LineRef& line);
+    // Where the value of a `Pname=number` argument at `p` of `text` ends, as
+    // plain_call reads it: an optional sign, then a decimal literal of at
+    // most 15 digits, then a blank or the end of the text; `p` when there is
+    // no such value there.
+    static uint32_t plain_value_end(std::string_view text, uint32_t p);
 
     // As parse, but a plain move of the simplest shape (last_plain) is filled
     // in part: its sequence name and, of each word, the address, the range and

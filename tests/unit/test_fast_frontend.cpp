@@ -881,3 +881,44 @@ TEST_CASE("fast front end: one block taking every line of the test programs give
     on_test_programs(20261206, [&](const std::string& name, const std::string& text) { return compare_again(name, text, &again); });
     CHECK(again > 0);
 }
+
+TEST_CASE("fast front end: plain_value_end takes a value where both front ends read a number word, that value") {
+    // The walk tells a repeated call from its text with plain_value_end
+    // (Walk::repeat_line): what it takes must be what the parser makes a
+    // number of, over the same bytes.
+    CHECK(FastLineParser::plain_value_end("-12.5 PY=1.", 0) == 5);
+    CHECK(FastLineParser::plain_value_end("+.5", 0) == 3);
+    CHECK(FastLineParser::plain_value_end("PX=7\tPY=1.", 3) == 4);
+    CHECK(FastLineParser::plain_value_end("1234567890123456", 0) == 0);  // 16 digits
+    CHECK(FastLineParser::plain_value_end("12345678901234.5", 0) == 16);
+    CHECK(FastLineParser::plain_value_end("123456789012345.6", 0) == 0);
+    CHECK(FastLineParser::plain_value_end("3.(C)", 0) == 0);  // a comment glued on
+    CHECK(FastLineParser::plain_value_end("1.2.3", 0) == 0);
+    CHECK(FastLineParser::plain_value_end("-.", 0) == 0);
+    CHECK(FastLineParser::plain_value_end("-", 0) == 0);
+    CHECK(FastLineParser::plain_value_end("VC1", 0) == 0);
+    std::mt19937 rng(20261206);
+    int taken = 0;
+    for (int i = 0; i < 4000; ++i) {
+        const std::string value = random_value(rng);
+        const std::string head = "CALL OZAGR PX=";
+        const std::string line = head + value + (i % 3 ? " PY=1." : "");
+        const auto at = static_cast<uint32_t>(head.size());
+        const uint32_t end = FastLineParser::plain_value_end(line, at);
+        if (end == at) continue;
+        ++taken;
+        CHECK_MESSAGE(end == at + value.size(), line);
+        for (const ProgramFile& f : {parse_program_file("v.min", line + "\n"), parse_program_file_fast("v.min", line + "\n")}) {
+            REQUIRE(f.blocks.size() == 1);
+            const Block& b = f.blocks[0];
+            const Word* w = b.find("PX");
+            REQUIRE_MESSAGE(w, line);
+            CHECK_MESSAGE(b.errors.empty(), line);
+            CHECK_MESSAGE(w->number.has_value(), line);
+            CHECK_MESSAGE(w->value_range.begin == at, line);
+            CHECK_MESSAGE(w->value_range.end == end, line);
+            if (w->number) CHECK_MESSAGE(*w->number == std::stod(value), line);
+        }
+    }
+    CHECK(taken > 2000);
+}
