@@ -243,6 +243,17 @@ bool motion_detail::steps_read_plane(const MacroSpec& spec, Plane plane) {
     return false;
 }
 
+namespace {
+// What a repeat reads of the state and the macro to take the memo's end point.
+bool takes_end_on_repeat(const MacroSpec& spec, const ModalState& before) {
+    return before.plane.known && !motion_detail::steps_read_plane(spec, before.plane.value);
+}
+}  // namespace
+
+bool macro_end_repeats(const MacroEndMemo& memo, const MacroSpec& spec, const ModalState& before) {
+    return memo.fresh && takes_end_on_repeat(spec, before);
+}
+
 std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
                                                  const MacroCall* call, MacroEndMemo* memo, bool repeat) {
     const bool fresh = memo && memo->fresh;
@@ -257,8 +268,7 @@ std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalStat
     if (!memo) return macro_end_point(b, before, after, *call, spec);
     static const TravelLimits kNoTravel;  // macro_end_point knows no travel limits
     const BlockView v{b, before, after, call};
-    if ((repeat && fresh && before.plane.known && !motion_detail::steps_read_plane(spec, before.plane.value)) ||
-        memo->call.same(v, kNoTravel)) {
+    if ((repeat && fresh && takes_end_on_repeat(spec, before)) || memo->call.same(v, kNoTravel)) {
         memo->fresh = true;
         return memo->end;
     }

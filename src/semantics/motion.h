@@ -248,6 +248,11 @@ struct MacroEndMemo {
 std::optional<std::pair<char, double>> macro_end(const Block& b, const ModalState& before, const ModalState& after,
                                                  const MacroCall* call, MacroEndMemo* memo = nullptr,
                                                  bool repeat = false);
+// Whether macro_end, on a repeat of the call it worked out last with
+// `memo`, takes the memo's end point as it is: the last call found or
+// remembered it there, and the macro's steps read no argument the plane's
+// axes give (so the call's values in the plane do not move that point).
+bool macro_end_repeats(const MacroEndMemo& memo, const MacroSpec& spec, const ModalState& before);
 
 // A point outside `[machine.travel]`.
 struct TravelViolation {

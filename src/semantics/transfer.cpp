@@ -830,6 +830,12 @@ void apply_block(const Block& b, const MacroCall* call, const Catalog& catalog, 
     finish_block(b, before, call, f.runs_program, ends, s, repeat);
 }
 
+bool repeat_leaves_state(const MacroSpec& spec, const ModalState& before, const CallTransferMemo& calls,
+                         const MacroEndMemo& ends) {
+    return calls.fresh && calls.spec == &spec && !before.ncyl && !before.noex && !before.g100 &&
+           macro_end_repeats(ends, spec, before);
+}
+
 bool is_plain_move_block(const Block& b) {
     if (b.kind != LineKind::Block || b.program_name || b.block_delete || b.words.empty() || !b.statements.empty() ||
         !b.assignments.empty() || !b.errors.empty())

@@ -36,6 +36,16 @@ struct CallTransferMemo {
     bool fresh = false;  // the last block apply_block applied was applied from it, or made it
 };
 
+// Whether apply_block, given a repeat (`repeat`) of the plain call of `spec`
+// it applied last (the same line from the state that call left, but for
+// the values of the plane's positioning arguments), leaves that state as it
+// is: it applied that call from `calls` or made `calls` of it, and took or
+// found its end point in `ends` (macro_end_repeats). It then sets the state
+// to `calls.partial` and the end point to `ends.end` again: what it left
+// after that call. The walk need neither parse nor apply such a line.
+bool repeat_leaves_state(const MacroSpec& spec, const ModalState& before, const CallTransferMemo& calls,
+                         const MacroEndMemo& ends);
+
 // Applies one block to the state. `ends`, when set, is the walk's memo of
 // the last macro call's end point (macro_end); `calls`, of the last plain
 // call (CallTransferMemo). Both are caches: the state is the same without.
