@@ -45,6 +45,17 @@ public:
         return !spec || !spec->has(Hazard::OverwritesVc120To128);
     }
 
+    // Once the macro is named and the notes' calls are held, another call
+    // of it with no variable in its line adds nothing.
+    bool quiet_on_repeat_of(const BlockView& v) const override {
+        const MacroCall* c = v.call;
+        if (!c || !c->spec || c->summary || calls_.size() < kShownCalls ||
+            std::find(specs_.begin(), specs_.end(), c->spec) == specs_.end())
+            return false;
+        return std::none_of(v.block.exprs.begin(), v.block.exprs.end(),
+                            [](const ExprNode& n) { return n.kind == ExprKind::Variable; });
+    }
+
     void begin_program(RuleContext&, const ProgramView&) override {
         uses_.clear();
         calls_.clear();

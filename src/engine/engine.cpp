@@ -712,8 +712,12 @@ bool Walk::may_be_move() const {
 }
 
 Walk::Next Walk::read_for_rules(Block& b, LineRef& line, bool move) {
-    if (!move || !rules_take_values())
-        return read(b, line, moves_with_rules() && plain_may_apply()) ? Next::Block : Next::End;
+    if (!move || !rules_take_values()) {
+        if (!fetch(line)) return Next::End;
+        if (!move && repeat_line(line)) return Next::Checked;
+        parse(b, line, moves_with_rules() && plain_may_apply());
+        return Next::Block;
+    }
     if (!fetch(line)) return Next::End;
     if (skim_checked(line)) return Next::Checked;
     parse(b, line, plain_may_apply());
@@ -980,6 +984,40 @@ Walk::Repeated Walk::repeated(const Block& b, const MacroCall* c, const ModalSta
     return Repeated::Yes;
 }
 
+bool Walk::repeats_text(std::string_view t) const {
+    const std::string& k = repeat_.text;
+    uint32_t from = 0, at = 0;  // in t, in k
+    for (uint8_t i = 0;; ++i) {
+        const uint32_t cut = i < repeat_.count ? repeat_.cuts[i] : static_cast<uint32_t>(k.size());
+        const uint32_t len = cut - at;
+        if (t.size() - from < len || t.compare(from, len, k, at, len) != 0) return false;
+        from += len;
+        if (i == repeat_.count) return from == t.size();
+        at = cut;
+        const uint32_t end = FastLineParser::plain_value_end(t, from);
+        if (end == from) return false;
+        from = end;
+    }
+}
+
+// Such a line is what visit would find a repeat (Walk::repeated) of a call
+// that no rule sees then, and apply_block would leave the state as it is:
+// visit is left out. Only in a batch walk outside loops (no checkpoint, no
+// observer), where no path joins at the line and control does not fall
+// off the program after it.
+bool Walk::repeat_line(const LineRef& line) {
+    if (!repeat_.armed || !repeat_.from_text || repeat_.transfers != stats_.transfers ||
+        repeat_.epoch != flow_epoch_ || !reachable_ || line.end() >= flow_.end() || !repeats_text(line.text) ||
+        pending_offset_.find(line.start) || flow_.loop_at_head(line.start) ||
+        !repeat_leaves_state(*repeat_.spec, *A_, call_transfers_, macro_ends_))
+        return false;
+    ++stats_.transfers;
+    ++stats_.repeats;
+    ++stats_.text_repeats;
+    repeat_.transfers = stats_.transfers;
+    return true;
+}
+
 // Whether the state after the block is the state before it but for the
 // position in the plane.
 bool Walk::same_apart_from_plane(const BlockView& view) const {
@@ -1042,6 +1080,11 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
                 repeat_.text.append(line.text.substr(from));
                 repeat_.rules = &repeat_rules_of(repeat_.spec, repeat_.kind, plain_call);
             }
+            // Asked again after a repeat: a rule that saw it may be quiet now.
+            repeat_.from_text = plain_call && repeat_.kind == CallKind::Call && runs_ok_ && !options_.observer &&
+                                !in_loop_ && !held_ &&
+                                std::all_of(repeat_.rules->begin(), repeat_.rules->end(),
+                                            [&](const Rule* r) { return r->quiet_on_repeat_of(view); });
         }
     }
     if (options_.observer && !options_.observer->block(view, line)) stop_ = true;

@@ -231,6 +231,16 @@ public:
         (void)spec;
         return false;
     }
+    // For a rule that is not quiet_on_repeat for the macro `v` runs: whether,
+    // from what it has seen so far, check_block would now do nothing on a
+    // repeat of `v`, the block it saw last (OSP202 once it holds the macro
+    // and the calls its notes show). The walk asks after each block that may
+    // be repeated, and leaves the rule out of the repeats that follow while
+    // it sees nothing else.
+    virtual bool quiet_on_repeat_of(const BlockView& v) const {
+        (void)v;
+        return false;
+    }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
     // another block (OSP004 once it knows where the program's content starts).

@@ -668,8 +668,8 @@ std::string repeated_calls_program(std::mt19937& rng) {
 }
 
 // Twelve programs of `make`, each checked beside the reference with X/Y/Z
-// travel limits and without; `count` adds up what the walk with limits
-// counted, the rules' findings go into `seen`.
+// travel limits and without; `count` adds up what the walks counted (with
+// limits, without), the rules' findings go into `seen`.
 template <class Make, class Count>
 uint64_t compare_generated(const std::string& stem, unsigned seed, Make make, Count count,
                            std::map<std::string, int>& seen) {
@@ -679,10 +679,10 @@ uint64_t compare_generated(const std::string& stem, unsigned seed, Make make, Co
     for (int i = 0; i < 12; ++i) {
         const std::string text = make(rng);
         const std::string name = stem + std::to_string(i) + ".min";
-        EngineStats st;
+        EngineStats st, without;
         compare_checks(name, text, config, {}, &st);
-        compare_checks(name, text, Config{});
-        total += count(st);
+        compare_checks(name, text, Config{}, {}, &without);
+        total += count(st, without);
         AnalysisOptions options;
         options.fold = 0;
         for (const auto& d : check_text(name, text, config, options).diagnostics) ++seen[d.rule];
@@ -695,7 +695,7 @@ TEST_CASE("engine: a call that repeats the one before but for its values gives t
     // call from the one before (resolve_call_again).
     std::map<std::string, int> seen;
     const uint64_t again = compare_generated(
-        "calls", 1205, repeated_calls_program, [](const EngineStats& st) { return st.calls_again; }, seen);
+        "calls", 1205, repeated_calls_program, [](const EngineStats& st, const EngineStats&) { return st.calls_again; }, seen);
     CHECK(again > 2000);
     for (const std::string id : {"OSP101", "OSP109", "OSP301", "OSP302"}) CHECK_MESSAGE(seen[id] > 0, id);
 }
@@ -748,7 +748,7 @@ std::string modin_runs_program(std::mt19937& rng) {
 TEST_CASE("engine: a positioning block under MODIN that keeps the call before gives the reference's result") {
     std::map<std::string, int> seen;
     const uint64_t kept = compare_generated(
-        "modin", 1207, modin_runs_program, [](const EngineStats& st) { return st.modin_calls_kept; }, seen);
+        "modin", 1207, modin_runs_program, [](const EngineStats& st, const EngineStats&) { return st.modin_calls_kept; }, seen);
     CHECK(kept > 1000);
     for (const std::string id : {"OSP101", "OSP301"}) CHECK_MESSAGE(seen[id] > 0, id);
 }
@@ -820,6 +820,14 @@ std::string repeat_runs_program(std::mt19937& rng) {
                 case 13: line += " M9"; break;
                 case 14: line = "X%X Y%Y Z" + number(); break;
                 case 15: before = "VC1=VC1+1.\n"; break;
+                // Values of other shapes, for a repeat told from its text: a plus sign, no
+                // point, no integer part, 16 digits, a comment glued on, two points.
+                case 16: line.replace(line.find("%X"), 2, "+12."); break;
+                case 17: line.replace(line.find("%X"), 2, "7"); break;
+                case 18: line.replace(line.find("%X"), 2, "-.25"); break;
+                case 19: line.replace(line.find("%X"), 2, "1234567890123456"); break;
+                case 20: line.replace(line.find("%X"), 2, "3.(C)"); break;
+                case 21: line.replace(line.find("%X"), 2, "1.2.3"); break;
                 default: break;
             }
             for (const auto& [key, value] : {std::pair{"%X", x}, std::pair{"%Y", y}})
@@ -840,10 +848,21 @@ std::string repeat_runs_program(std::mt19937& rng) {
 TEST_CASE("engine: a block that repeats the one before moved in the plane gives the reference's result") {
     // The rules that say so are left out on such a block when the one before
     // gave no finding (Rule::quiet_on_repeat).
+    // A plain call's repeat is told from its text, without a block (Walk::repeat_line).
     std::map<std::string, int> seen;
+    uint64_t from_text = 0;
     const uint64_t repeats = compare_generated(
-        "repeats", 1211, repeat_runs_program, [](const EngineStats& st) { return st.repeats; }, seen);
+        "repeats", 1211, repeat_runs_program,
+        [&](const EngineStats& st, const EngineStats& without) {
+            // With travel limits OSP301 sees every call: none is told from its text.
+            CHECK(st.text_repeats == 0);
+            from_text += without.text_repeats;
+            return st.repeats;
+        },
+        seen);
     CHECK(repeats > 2000);
+    CHECK(from_text > 300);
+    CHECK(from_text < repeats);
     for (const std::string id : {"OSP101", "OSP106", "OSP109", "OSP110", "OSP111", "OSP206", "OSP208", "OSP213",
                                  "OSP301", "OSP302"})
         CHECK_MESSAGE(seen[id] > 0, id);

@@ -58,6 +58,7 @@ private:
 struct Shown {
     std::vector<uint32_t> lines;
     uint64_t repeats = 0;
+    uint64_t from_text = 0;  // of them, calls told from their text (Walk::repeat_line)
 };
 
 Shown shown(const std::string& text) {
@@ -71,15 +72,26 @@ Shown shown(const std::string& text) {
     const Config config;
     CHECK(run_engine("probe.min", src, config, options, sink, &stats).empty());
     out.repeats = stats.repeats;
+    out.from_text = stats.text_repeats;
     return out;
+}
+
+// The lines from `first` to `last` that the probe was not shown.
+std::vector<uint32_t> left_out(const Shown& s, uint32_t first, uint32_t last) {
+    std::vector<uint32_t> out;
+    for (uint32_t line = first; line <= last; ++line)
+        if (std::find(s.lines.begin(), s.lines.end(), line) == s.lines.end()) out.push_back(line);
+    return out;
+}
+
+std::string ozagr(const std::string& x, const std::string& y, const std::string& r) {
+    return "CALL OZAGR PX=" + x + " PY=" + y + " PR=" + r + " PZ=-29. PI=6. PJ=1.5 PF=50 PS=600";
 }
 
 }  // namespace
 
 TEST_CASE("engine: a rule is left out on a block that repeats the one before moved in the plane, and only then") {
-    const auto call = [](const std::string& x, const std::string& y, const std::string& r) {
-        return "CALL OZAGR PX=" + x + " PY=" + y + " PR=" + r + " PZ=-29. PI=6. PJ=1.5 PF=50 PS=600";
-    };
+    const auto call = ozagr;
     const std::string text =
         "O1000\n"                                  // 1
         "G15 H1\n"                                 // 2
@@ -120,9 +132,33 @@ TEST_CASE("engine: a rule is left out on a block that repeats the one before mov
         + "G80\n"                                  // 37
         + "M30\n";                                 // 38
     const Shown s = shown(text);
-    std::vector<uint32_t> left_out;
-    for (uint32_t line = 5; line <= 38; ++line)
-        if (std::find(s.lines.begin(), s.lines.end(), line) == s.lines.end()) left_out.push_back(line);
-    CHECK(left_out == std::vector<uint32_t>{7, 8, 14, 17, 18, 20, 22, 25, 28, 31, 35});
-    CHECK(s.repeats == left_out.size() - 2);  // all but the plain moves
+    const std::vector<uint32_t> out = left_out(s, 5, 38);
+    CHECK(out == std::vector<uint32_t>{7, 8, 14, 17, 18, 20, 22, 25, 28, 31, 35});
+    CHECK(s.repeats == out.size() - 2);  // all but the plain moves
+    // The plain calls among them (not 22, with its comment) are told from their text.
+    CHECK(s.from_text == 5);
+}
+
+TEST_CASE("engine: a call is told a repeat from its text only when its values are plain numbers") {
+    const std::string text =
+        "O1000\n"                                        // 1
+        "G15 H1\n"                                       // 2
+        "G0 G90 X0 Y0 Z50.\n"                            // 3
+        "S600 M3\n"                                      // 4
+        + ozagr("1.", "2.", "5.") + "\n"                 // 5  the first call
+        + ozagr("2.", "2.", "5.") + "\n"                 // 6
+        + ozagr("+3.", "2.", "5.") + "\n"                // 7  from its text: a plus sign
+        + ozagr("4", "-2", "5.") + "\n"                  // 8  from its text: no point, a minus sign
+        + ozagr("-.5", "2.", "5.") + "\n"                // 9  from its text: no integer part
+        + ozagr("1234567890123456", "2.", "5.") + "\n"   // 10 16 digits: parsed, a repeat
+        + ozagr("3.(C)", "2.", "5.") + "\n"              // 11 a comment glued on: no repeat
+        + ozagr("4.", "2.", "5.") + "\n"                 // 12 after a block with a comment
+        + ozagr("5.", "2.", "5.") + "\n"                 // 13 from its text
+        + ozagr("1.2.3", "2.", "5.") + "\n"              // 14 not a number: no repeat
+        + ozagr("6.", "2.", "5.") + "\n"                 // 15
+        + ozagr("7.", "2.", "5.") + "\n"                 // 16 from its text
+        + ozagr("8.", "2.", "5.") + "\n";                // 17 the last block (no M30): parsed, a repeat
+    const Shown s = shown(text);
+    CHECK(left_out(s, 5, 17) == std::vector<uint32_t>{7, 8, 9, 10, 13, 16, 17});
+    CHECK(s.from_text == 5);
 }
