@@ -263,6 +263,7 @@ void MacroSpec::index_args() {
 void MacroSpec::index_action_args() {
     action_args_.clear();
     action_args_read_ = false;
+    action_reads_axis_made_ = false;
     std::vector<bool> in(args.size(), false);
     // False when `name` is not written exactly as the name or an alias of
     // argument `i` (then the call is searched by that spelling too).
@@ -292,6 +293,28 @@ void MacroSpec::index_action_args() {
         }
     }
     action_args_read_ = true;
+    for (int plane : {17, 18, 19})
+        for (char axis : {'X', 'Y', 'Z'})
+            action_reads_axis_[static_cast<size_t>(position_slot(plane, axis))] = reads_axis_now(plane, axis);
+    action_reads_axis_made_ = true;
+}
+
+bool MacroSpec::reads_axis_now(int plane, char axis) const {
+    const std::vector<uint16_t>* reads = action_args();
+    if (!reads) return true;
+    const auto read = [&](const ArgSpec* a) {
+        if (!a) return false;
+        const auto index = static_cast<uint16_t>(a - args.data());
+        return std::find(reads->begin(), reads->end(), index) != reads->end();
+    };
+    return read(arg_for_address(std::string_view(&axis, 1))) || read(position_arg(plane, axis));
+}
+
+bool MacroSpec::action_reads_axis(int plane, char axis) const {
+    const int slot = position_slot(plane, axis);
+    if (!action_args()) return true;
+    if (slot < 0 || !action_reads_axis_made_) return reads_axis_now(plane, axis);
+    return action_reads_axis_[static_cast<size_t>(slot)];
 }
 
 namespace {

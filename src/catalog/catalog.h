@@ -324,6 +324,16 @@ struct MacroSpec {
                                                                                                      : nullptr;
     }
 
+    // Whether the action sequence reads the argument the address `axis`
+    // (X, Y or Z) stands for (arg_for_address) or the positioning argument of
+    // that axis in plane `plane` (17, 18, 19; position_arg); true when the
+    // steps read more than action_args lists. Kept for each plane and axis
+    // by index_action_args: the walk asks on every repeated call.
+    bool action_reads_axis(int plane, char axis) const;
+    bool reads_axis_now(int plane, char axis) const;  // worked out, not kept
+    std::array<bool, 9> action_reads_axis_{};  // by plane and axis, as position_args_
+    bool action_reads_axis_made_ = false;
+
     // The positioning-plane argument (ArgRole::Position) of axis `axis` in
     // plane `plane` (17, 18, 19), the last one listed when several are;
     // nullptr when none is. Looked up in position_args_, made with

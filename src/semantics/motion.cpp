@@ -228,19 +228,9 @@ std::optional<Envelope> cycle_envelope(const Block& b, const ModalState& before,
 }
 
 bool motion_detail::steps_read_plane(const MacroSpec& spec, Plane plane) {
-    const std::vector<uint16_t>* reads = spec.action_args();
-    if (!reads) return true;
     const int number = plane_number(plane);
     const PlaneAxes pa = plane_axes(plane);
-    const auto read = [&](const ArgSpec* a) {
-        if (!a) return false;
-        const auto index = static_cast<uint16_t>(a - spec.args.data());
-        return std::find(reads->begin(), reads->end(), index) != reads->end();
-    };
-    for (char axis : {pa.first, pa.second})
-        if (read(spec.arg_for_address(std::string_view(&axis, 1))) || read(spec.position_arg(number, axis)))
-            return true;
-    return false;
+    return spec.action_reads_axis(number, pa.first) || spec.action_reads_axis(number, pa.second);
 }
 
 namespace {
