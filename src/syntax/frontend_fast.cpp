@@ -312,45 +312,15 @@ bool FastLineParser::Impl::plain_arg(uint32_t p, PlainArg& a) const {
         end = scan_number_at(s, p, n, a.value);
         if (end == p || !plain_literal(s, p, end, n)) return false;
     } else {
-        end = plain_value_end(std::string_view(s, n), a.value_begin);
+        end = plain_value_end_at(s, a.value_begin, n);
         if (end == a.value_begin) return false;
     }
     a.end = end;
     return true;
 }
 
-namespace {
-// The end of what scan_number_at accepts at s[p..n): digits, a point,
-// digits; not a point alone (p: none).
-uint32_t literal_end(const char* s, uint32_t p, uint32_t n) {
-    const auto digit = [&](uint32_t i) { return (kClass[static_cast<unsigned char>(s[i])] & kDigitClass) != 0; };
-    uint32_t end = p;
-    while (end < n && digit(end)) ++end;
-    if (end < n && s[end] == '.') {
-        const uint32_t point = end++;
-        while (end < n && digit(end)) ++end;
-        if (point == p && end == point + 1) end = p;
-    }
-    return end;
-}
-}  // namespace
-
-// A literal s[p..end) as a plain argument's value: a blank or the end of the
-// line after it, at most 15 digits (the point aside).
-bool FastLineParser::Impl::plain_literal(const char* s, uint32_t p, uint32_t end, uint32_t n) {
-    if (end < n && !(kClass[static_cast<unsigned char>(s[end])] & kBlankClass)) return false;
-    const uint32_t len = end - p;
-    return !(len > 16 || (len == 16 && !std::memchr(s + p, '.', len)));
-}
-
 uint32_t FastLineParser::plain_value_end(std::string_view text, uint32_t p) {
-    const char* s = text.data();
-    const auto n = static_cast<uint32_t>(text.size());
-    uint32_t q = p;
-    if (q < n && (s[q] == '+' || s[q] == '-')) ++q;
-    const uint32_t end = literal_end(s, q, n);
-    if (end == q || !Impl::plain_literal(s, q, end, n)) return p;
-    return end;
+    return plain_value_end_at(text.data(), p, static_cast<uint32_t>(text.size()));
 }
 
 // Blanks and `Pname=number` items up to the end of the line.

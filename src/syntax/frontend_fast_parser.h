@@ -139,9 +139,6 @@ struct FastLineParser::Impl {
     };
     template <bool kValue>
     bool plain_arg(uint32_t p, PlainArg& a) const;
-    // Whether the literal s[p, end) of a line of n bytes may be such an
-    // argument's value: a blank or the end after it, at most 15 digits.
-    static bool plain_literal(const char* s, uint32_t p, uint32_t end, uint32_t n);
     // Whether [p, n) holds only `Pname=number` arguments (parse_outline).
     bool plain_call_args(uint32_t p) const;
     // Whether the line is `CALL`/`MODIN`, `O` and a name, then such arguments only.

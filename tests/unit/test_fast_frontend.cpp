@@ -901,8 +901,9 @@ TEST_CASE("fast front end: plain_value_end takes a value where both front ends r
     int taken = 0;
     for (int i = 0; i < 4000; ++i) {
         const std::string value = random_value(rng);
-        const std::string head = "CALL OZAGR PX=";
-        const std::string line = head + value + (i % 3 ? " PY=1." : "");
+        // A call's argument, or a hole's axis word.
+        const std::string head = i % 2 ? "CALL OZAGR PX=" : "X";
+        const std::string line = head + value + (i % 3 ? (i % 2 ? " PY=1." : " Y1.") : "");
         const auto at = static_cast<uint32_t>(head.size());
         const uint32_t end = FastLineParser::plain_value_end(line, at);
         if (end == at) continue;
@@ -911,7 +912,7 @@ TEST_CASE("fast front end: plain_value_end takes a value where both front ends r
         for (const ProgramFile& f : {parse_program_file("v.min", line + "\n"), parse_program_file_fast("v.min", line + "\n")}) {
             REQUIRE(f.blocks.size() == 1);
             const Block& b = f.blocks[0];
-            const Word* w = b.find("PX");
+            const Word* w = b.find(i % 2 ? "PX" : "X");
             REQUIRE_MESSAGE(w, line);
             CHECK_MESSAGE(b.errors.empty(), line);
             CHECK_MESSAGE(w->number.has_value(), line);
