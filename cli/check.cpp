@@ -147,7 +147,7 @@ std::string describe(const EngineStats& s) {
                        "tree-sitter), {} transfers ({} plain moves a run at a time, {} checked from their values "
                        "without a block, {} calls taken from the call before but for their values, {} positioning blocks of "
                        "a MODIN that kept the call before, {} repeats of the block before moved in the plane, {} of them "
-                       "calls told from their text); {} loops ({} held in memory), {} sweeps without the rules, "
+                       "told from their text); {} loops ({} held in memory), {} sweeps without the rules, "
                        "{} walked with the rules after one sweep",
                        s.bytes, s.lines, s.programs, s.outline_lines_parsed, s.blocks_parsed, s.fallback_lines,
                        s.transfers, s.run_blocks, s.value_blocks, s.calls_again, s.modin_calls_kept, s.repeats, s.text_repeats,

@@ -22,6 +22,14 @@ class UndefinedJumpTarget final : public RuleBase<UndefinedJumpTarget> {
 public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_calls() const override { return false; }  // a plain call line holds no jump and no N word
+    // A repeat of a block with no jump and no N word adds no reference.
+    bool quiet_on_repeat_of(const BlockView& v) const override {
+        for (const auto& st : v.block.statements)
+            if (st.kind == StmtKind::Goto || st.kind == StmtKind::If) return false;
+        for (const auto& w : v.block.words)
+            if (w.address == "N") return false;
+        return true;
+    }
     void begin_program(RuleContext&, const ProgramView&) override { refs_.clear(); }
     void check_block(RuleContext&, const BlockView& v) override {
         for (const auto& st : v.block.statements) {

@@ -20,6 +20,9 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
 
+    // A repeat of a block with no M word neither reports nor moves the M843 kept.
+    bool quiet_on_repeat_of(const BlockView& v) const override { return !v.block.find("M"); }
+
     void begin_program(RuleContext&, const ProgramView&) override { last_m843_.reset(); }
 
     void check_block(RuleContext& ctx, const BlockView& v) override {

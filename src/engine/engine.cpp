@@ -714,12 +714,12 @@ bool Walk::may_be_move() const {
 Walk::Next Walk::read_for_rules(Block& b, LineRef& line, bool move) {
     if (!move || !rules_take_values()) {
         if (!fetch(line)) return Next::End;
-        if (!move && repeat_line(line)) return Next::Checked;
+        if (repeat_line(line)) return Next::Checked;
         parse(b, line, moves_with_rules() && plain_may_apply());
         return Next::Block;
     }
     if (!fetch(line)) return Next::End;
-    if (skim_checked(line)) return Next::Checked;
+    if (repeat_line(line) || skim_checked(line)) return Next::Checked;
     parse(b, line, plain_may_apply());
     return Next::Block;
 }
@@ -1000,16 +1000,16 @@ bool Walk::repeats_text(std::string_view t) const {
     }
 }
 
-// Such a line is what visit would find a repeat (Walk::repeated) of a call
-// that no rule sees then, and apply_block would leave the state as it is:
-// visit is left out. Only in a batch walk outside loops (no checkpoint, no
-// observer), where no path joins at the line and control does not fall
-// off the program after it.
+// Such a line is what visit would find a repeat (Walk::repeated) of a block
+// that no rule sees then, and apply_block would leave the state as it is
+// (repeat_leaves_state for a CALL, repeat_keeps_state for a hole or a
+// positioning block, asked when the block was armed): visit is left out.
+// Only in a batch walk outside loops (no checkpoint, no observer), where no
+// path joins at the line and control does not fall off the program after it.
 bool Walk::repeat_line(const LineRef& line) {
     if (!repeat_.armed || !repeat_.from_text || repeat_.transfers != stats_.transfers ||
         repeat_.epoch != flow_epoch_ || !reachable_ || line.end() >= flow_.end() || !repeats_text(line.text) ||
-        pending_offset_.find(line.start) || flow_.loop_at_head(line.start) ||
-        !repeat_leaves_state(*repeat_.spec, *A_, call_transfers_, macro_ends_))
+        pending_offset_.find(line.start) || flow_.loop_at_head(line.start))
         return false;
     ++stats_.transfers;
     ++stats_.repeats;
@@ -1080,11 +1080,15 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
                 repeat_.text.append(line.text.substr(from));
                 repeat_.rules = &repeat_rules_of(repeat_.spec, repeat_.kind, plain_call);
             }
-            // Asked again after a repeat: a rule that saw it may be quiet now.
-            repeat_.from_text = plain_call && repeat_.kind == CallKind::Call && runs_ok_ && !options_.observer &&
-                                !in_loop_ && !held_ &&
-                                std::all_of(repeat_.rules->begin(), repeat_.rules->end(),
-                                            [&](const Rule* r) { return r->quiet_on_repeat_of(view); });
+            // Asked again after a repeat: a rule that saw it may be quiet now,
+            // and the transfer step's memos are those the block left.
+            repeat_.from_text =
+                runs_ok_ && !options_.observer && !in_loop_ && !held_ &&
+                std::all_of(repeat_.rules->begin(), repeat_.rules->end(),
+                            [&](const Rule* r) { return r->quiet_on_repeat_of(view); }) &&
+                (repeat_.kind == CallKind::Call
+                     ? plain_call && repeat_leaves_state(*repeat_.spec, *B_, call_transfers_, macro_ends_)
+                     : repeat_keeps_state(view.block, view.call, *B_, macro_ends_));
         }
     }
     if (options_.observer && !options_.observer->block(view, line)) stop_ = true;

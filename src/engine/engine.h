@@ -222,7 +222,7 @@ struct EngineStats {
     uint64_t value_blocks = 0;         // ... of which plain moves the rules checked without a block (Walk::skim_checked)
     uint64_t calls_again = 0;          // calls taken from the call before but for their values (resolve_call_again)
     uint64_t repeats = 0;              // blocks that repeated the one before, moved (Rule::quiet_on_repeat)
-    uint64_t text_repeats = 0;         // ... of which plain calls told from their text alone (Walk::repeat_line)
+    uint64_t text_repeats = 0;         // ... of which told from their text alone (Walk::repeat_line)
     uint64_t modin_calls_kept = 0;     // positioning blocks of an open MODIN that kept the call before (resolve_call)
     uint64_t label_misses = 0;         // has_label asked for a name the walk did not keep (should stay 0)
     uint64_t loop_resumes = 0;         // analyses resumed at a checkpoint inside a loop

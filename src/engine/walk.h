@@ -428,8 +428,9 @@ private:
         std::array<uint32_t, 2> cuts{};  // where those values were cut out of `text`
         uint8_t count = 0;               // how many were
         const std::vector<Rule*>* rules = nullptr;  // the rules that are not quiet on a repeat of it
-        // A plain call that no rule sees on a repeat, in a batch walk outside
-        // loops: a repeat of it may be applied from its text (repeat_line).
+        // A block no rule sees on a repeat, whose repeat leaves the state as
+        // it is (a plain call, a hole, a positioning block), in a batch walk
+        // outside loops: a repeat of it may be applied from its text (repeat_line).
         bool from_text = false;
     };
     // Where the values of the plane's position words are on a block that may
@@ -446,10 +447,9 @@ private:
     Repeated repeated(const Block& b, const MacroCall* call, const ModalState& before, const LineRef& line,
                       RepeatSpans& spans) const;
     bool same_apart_from_plane(const BlockView& view) const;
-    // A CALL line that repeats the plain call before it (Repeat::from_text),
-    // told from its text and applied without a block: the state stays as
-    // that call left it (repeat_leaves_state) and no rule sees it. False for
-    // any other line (it is then parsed).
+    // A line that repeats the block before it (Repeat::from_text), told from
+    // its text and applied without a block: the state stays as that block
+    // left it and no rule sees it. False for any other line (it is then parsed).
     bool repeat_line(const LineRef& line);
     // Whether `text` is repeat_.text with a plain number at each cut.
     bool repeats_text(std::string_view text) const;

@@ -16,6 +16,7 @@
 #include "catalog/catalog.h"
 #include "semantics/eval.h"
 #include "semantics/motion.h"
+#include "semantics/motion_internal.h"
 #include "semantics/summary.h"
 #include "semantics/transfer_internal.h"
 
@@ -834,6 +835,16 @@ bool repeat_leaves_state(const MacroSpec& spec, const ModalState& before, const 
                          const MacroEndMemo& ends) {
     return calls.fresh && calls.spec == &spec && !before.ncyl && !before.noex && !before.g100 &&
            macro_end_repeats(ends, spec, before);
+}
+
+bool repeat_keeps_state(const Block& b, const MacroCall* call, const ModalState& before, const MacroEndMemo& ends) {
+    if (b.kind != LineKind::Block || !before.plane.known || before.ncyl || before.noex || before.g100) return false;
+    if (call && (call->kind == CallKind::Call || call->kind == CallKind::Modin || call->summary)) return false;
+    // The position in the plane unknown after the block, whatever its words' values.
+    const PlaneAxes pa = plane_axes(before.plane.value);
+    if (before.axis(pa.first).known || before.axis(pa.second).known) return false;
+    if (!motion_detail::runs_macro(b, call)) return true;
+    return call && call->spec && macro_end_repeats(ends, *call->spec, before);
 }
 
 bool is_plain_move_block(const Block& b) {

@@ -6,7 +6,10 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <map>
 #include <memory>
+#include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -28,32 +31,75 @@ constexpr RuleMeta kProbe{
 // Notes the line of every block it is shown, and reports a block with M9.
 class Probe final : public RuleBase<Probe> {
 public:
-    explicit Probe(std::vector<uint32_t>* lines) : lines_(lines) {}
+    explicit Probe(std::vector<uint32_t>* lines, std::map<uint32_t, ModalState>* states = nullptr,
+                   std::optional<ModalState>* final_state = nullptr)
+        : lines_(lines), states_(states), final_(final_state) {}
     const RuleMeta& meta() const override { return kProbe; }
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         lines_->push_back(v.block.line);
+        if (states_) states_->insert_or_assign(v.block.line, v.before);
         if (v.block.has_code("M", 9)) ctx.report(kProbe, v.block.range, "M9");
+    }
+    void end_program(RuleContext&, const ProgramView& p) override {
+        if (final_ && p.final_state) *final_ = *p.final_state;
     }
 
 private:
     std::vector<uint32_t>* lines_;
+    std::map<uint32_t, ModalState>* states_;
+    std::optional<ModalState>* final_;
 };
 
 class ProbeRules final : public RuleRegistry {
 public:
-    explicit ProbeRules(std::vector<uint32_t>* lines) : lines_(lines) {}
+    explicit ProbeRules(std::vector<uint32_t>* lines, std::map<uint32_t, ModalState>* states = nullptr,
+                        std::optional<ModalState>* final_state = nullptr)
+        : lines_(lines), states_(states), final_(final_state) {}
     const std::vector<RuleMeta>& all() const override { return all_; }
     std::vector<std::unique_ptr<Rule>> make_all() const override {
         std::vector<std::unique_ptr<Rule>> rules;
-        rules.push_back(std::make_unique<Probe>(lines_));
+        rules.push_back(std::make_unique<Probe>(lines_, states_, final_));
         return rules;
     }
 
 private:
     std::vector<uint32_t>* lines_;
+    std::map<uint32_t, ModalState>* states_;
+    std::optional<ModalState>* final_;
     std::vector<RuleMeta> all_{kProbe};
 };
+
+// Watches the walk, which then reads every line (no shortcut from a line's text).
+class Watcher final : public BlockObserver {
+public:
+    bool block(const BlockView&, const LineRef&) override { return true; }
+};
+
+// What the probe sees of each block's state before it, and the final state,
+// in a batch walk and in a walk an observer watches.
+struct States {
+    std::map<uint32_t, ModalState> before;
+    std::optional<ModalState> final_state;
+    uint64_t from_text = 0;
+};
+
+States states_seen(const std::string& text, bool watched) {
+    States out;
+    std::vector<uint32_t> lines;
+    ProbeRules rules(&lines, &out.before, &out.final_state);
+    Watcher watcher;
+    EngineOptions options;
+    options.rules = &rules;
+    if (watched) options.observer = &watcher;
+    MemorySource src(text);
+    DiscardFindings sink;
+    EngineStats stats;
+    const Config config;
+    CHECK(run_engine("probe.min", src, config, options, sink, &stats).empty());
+    out.from_text = stats.text_repeats;
+    return out;
+}
 
 struct Shown {
     std::vector<uint32_t> lines;
@@ -161,4 +207,80 @@ TEST_CASE("engine: a call is told a repeat from its text only when its values ar
     const Shown s = shown(text);
     CHECK(left_out(s, 5, 17) == std::vector<uint32_t>{7, 8, 9, 10, 13, 16, 17});
     CHECK(s.from_text == 5);
+}
+
+TEST_CASE("engine: positioning blocks that leave the position unknown are told repeats from their text") {
+    // Under MODIN the macro runs at every positioning block and leaves the
+    // position in the plane unknown: once a block left the state as it found
+    // it, the next ones are told from their text. A hole of G114 leaves the
+    // position at its X and Y: its repeats are parsed, and still left out.
+    const std::string text =
+        "O1000\n"                                                       // 1
+        "G15 H1\n"                                                      // 2
+        "G0 G90 X0 Y0 Z50.\n"                                           // 3
+        "S600 M3\n"                                                     // 4
+        "MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500\n"    // 5
+        "X1. Y1.\n"                                                     // 6  from a known position, Z50.
+        "X2. Y1.\n"                                                     // 7  leaves the state as it found it
+        "X3. Y-1.\n"                                                    // 8  from its text
+        "X+4 Y.5\n"                                                     // 9  from its text
+        "X5. Y1. M9\n"                                                  // 10 another word, and a finding
+        "X6. Y1.\n"                                                     // 11 after a finding
+        "X7. Y1.\n"                                                     // 12 from its text
+        "MODOUT\n"                                                      // 13
+        "G114 R10 Z-21.5 F1200 FA=1300 X0 Y0\n"                         // 14
+        "X1. Y1.\n"                                                     // 15
+        "X2. Y1.\n"                                                     // 16
+        "X3. Y1.\n"                                                     // 17 left out, parsed
+        "X4. Y1.\n"                                                     // 18 left out, parsed
+        "M204\n"                                                        // 19
+        "M30\n";                                                        // 20
+    const Shown s = shown(text);
+    CHECK(left_out(s, 5, 20) == std::vector<uint32_t>{8, 9, 12, 17, 18});
+    CHECK(s.from_text == 3);
+}
+
+TEST_CASE("engine: a block told a repeat from its text leaves the state a walk that reads it would") {
+    // Runs of calls, MODIN positioning blocks and holes of G81 and G114 with
+    // random values, broken now and then: the state before every block the
+    // probe sees, and the final state, are those of a walk an observer
+    // watches (which reads every line and applies every block).
+    std::mt19937 rng(20261206);
+    const auto number = [&] { return std::to_string(static_cast<int>(rng() % 120) - 60) + (rng() % 2 ? "." : ".5"); };
+    uint64_t from_text = 0;
+    for (int program = 0; program < 6; ++program) {
+        std::string text = "O1000\nG15 H1\nG0 G90 X0 Y0 Z50.\nS600 M3\n";
+        for (int run = 0; run < 12; ++run) {
+            const unsigned kind = rng() % 4;
+            std::string head, line, tail;
+            switch (kind) {
+                case 0: line = "CALL OZAGR PX=%X PY=%Y PR=5. PZ=-29. PI=6. PJ=1.5 PF=50 PS=600"; break;
+                case 1: head = "MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500\n", line = "X%X Y%Y", tail = "MODOUT\n"; break;
+                case 2: head = "G81 X0 Y0 Z-10. R2. F100\n", line = "X%X Y%Y", tail = "G80\n"; break;
+                default: head = "G114 R10 Z-21.5 F1200 FA=1300 X0 Y0\n", line = "X%X Y%Y", tail = "M204\nS600 M3\n"; break;
+            }
+            text += head;
+            for (int i = 0, n = 3 + static_cast<int>(rng() % 12); i < n; ++i) {
+                std::string l = line;
+                for (const char* key : {"%X", "%Y"}) l.replace(l.find(key), 2, number());
+                if (rng() % 10 == 0) text += rng() % 2 ? "G91\n" : "G90\n";
+                text += l + "\n";
+            }
+            text += tail;
+            if (rng() % 3 == 0) text += "G0 G90 X" + number() + " Y" + number() + "\n";
+        }
+        text += "G0 Z50.\nM30\n";
+        const States batch = states_seen(text, false), watched = states_seen(text, true);
+        from_text += batch.from_text;
+        CHECK(watched.from_text == 0);
+        CHECK(batch.before.size() > 20);
+        for (const auto& [line, state] : batch.before) {
+            const auto it = watched.before.find(line);
+            REQUIRE_MESSAGE(it != watched.before.end(), "line " << line);
+            CHECK_MESSAGE(it->second == state, "the state before line " << line << " of\n" << text);
+        }
+        CHECK(batch.final_state.has_value());
+        CHECK(batch.final_state == watched.final_state);
+    }
+    CHECK(from_text > 50);
 }
