@@ -76,6 +76,19 @@ public:
     bool block(const BlockView&, const LineRef&) override { return true; }
 };
 
+// The engine on `text` with the probe's rules (and `observer`).
+EngineStats probe_walk(const std::string& text, ProbeRules& rules, BlockObserver* observer) {
+    EngineOptions options;
+    options.rules = &rules;
+    options.observer = observer;
+    MemorySource src(text);
+    DiscardFindings sink;
+    EngineStats stats;
+    const Config config;
+    CHECK(run_engine("probe.min", src, config, options, sink, &stats).empty());
+    return stats;
+}
+
 // What the probe sees of each block's state before it, and the final state,
 // in a batch walk and in a walk an observer watches.
 struct States {
@@ -89,34 +102,20 @@ States states_seen(const std::string& text, bool watched) {
     std::vector<uint32_t> lines;
     ProbeRules rules(&lines, &out.before, &out.final_state);
     Watcher watcher;
-    EngineOptions options;
-    options.rules = &rules;
-    if (watched) options.observer = &watcher;
-    MemorySource src(text);
-    DiscardFindings sink;
-    EngineStats stats;
-    const Config config;
-    CHECK(run_engine("probe.min", src, config, options, sink, &stats).empty());
-    out.from_text = stats.text_repeats;
+    out.from_text = probe_walk(text, rules, watched ? &watcher : nullptr).text_repeats;
     return out;
 }
 
 struct Shown {
     std::vector<uint32_t> lines;
     uint64_t repeats = 0;
-    uint64_t from_text = 0;  // of them, calls told from their text (Walk::repeat_line)
+    uint64_t from_text = 0;  // of them, told from their text (Walk::repeat_line)
 };
 
 Shown shown(const std::string& text) {
     Shown out;
     ProbeRules rules(&out.lines);
-    EngineOptions options;
-    options.rules = &rules;
-    MemorySource src(text);
-    DiscardFindings sink;
-    EngineStats stats;
-    const Config config;
-    CHECK(run_engine("probe.min", src, config, options, sink, &stats).empty());
+    const EngineStats stats = probe_walk(text, rules, nullptr);
     out.repeats = stats.repeats;
     out.from_text = stats.text_repeats;
     return out;
@@ -130,6 +129,10 @@ std::vector<uint32_t> left_out(const Shown& s, uint32_t first, uint32_t last) {
     return out;
 }
 
+// Lines 1 to 4 of the probe's programs: a program name, G15, the tool above
+// the work at a known place, the spindle on.
+const std::string kStart = "O1000\nG15 H1\nG0 G90 X0 Y0 Z50.\nS600 M3\n";
+
 std::string ozagr(const std::string& x, const std::string& y, const std::string& r) {
     return "CALL OZAGR PX=" + x + " PY=" + y + " PR=" + r + " PZ=-29. PI=6. PJ=1.5 PF=50 PS=600";
 }
@@ -139,10 +142,7 @@ std::string ozagr(const std::string& x, const std::string& y, const std::string&
 TEST_CASE("engine: a rule is left out on a block that repeats the one before moved in the plane, and only then") {
     const auto call = ozagr;
     const std::string text =
-        "O1000\n"                                  // 1
-        "G15 H1\n"                                 // 2
-        "G0 G90 X0 Y0 Z50.\n"                      // 3
-        "S600 M3\n"                                // 4
+        kStart                                     // 1-4
         + call("1.", "2.", "5.") + "\n"            // 5  the first call: sets the feed and Z
         + call("2.", "2.", "5.") + "\n"            // 6  leaves the state as it found it but for X and Y
         + call("3.", "2.", "5.") + "\n"            // 7  left out
@@ -187,10 +187,7 @@ TEST_CASE("engine: a rule is left out on a block that repeats the one before mov
 
 TEST_CASE("engine: a call is told a repeat from its text only when its values are plain numbers") {
     const std::string text =
-        "O1000\n"                                        // 1
-        "G15 H1\n"                                       // 2
-        "G0 G90 X0 Y0 Z50.\n"                            // 3
-        "S600 M3\n"                                      // 4
+        kStart                                           // 1-4
         + ozagr("1.", "2.", "5.") + "\n"                 // 5  the first call
         + ozagr("2.", "2.", "5.") + "\n"                 // 6
         + ozagr("+3.", "2.", "5.") + "\n"                // 7  from its text: a plus sign
@@ -215,10 +212,7 @@ TEST_CASE("engine: positioning blocks that leave the position unknown are told r
     // it, the next ones are told from their text. A hole of G114 leaves the
     // position at its X and Y: its repeats are parsed, and still left out.
     const std::string text =
-        "O1000\n"                                                       // 1
-        "G15 H1\n"                                                      // 2
-        "G0 G90 X0 Y0 Z50.\n"                                           // 3
-        "S600 M3\n"                                                     // 4
+        kStart +                                                        // 1-4
         "MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500\n"    // 5
         "X1. Y1.\n"                                                     // 6  from a known position, Z50.
         "X2. Y1.\n"                                                     // 7  leaves the state as it found it
@@ -249,7 +243,7 @@ TEST_CASE("engine: a block told a repeat from its text leaves the state a walk t
     const auto number = [&] { return std::to_string(static_cast<int>(rng() % 120) - 60) + (rng() % 2 ? "." : ".5"); };
     uint64_t from_text = 0;
     for (int program = 0; program < 6; ++program) {
-        std::string text = "O1000\nG15 H1\nG0 G90 X0 Y0 Z50.\nS600 M3\n";
+        std::string text = kStart;
         for (int run = 0; run < 12; ++run) {
             const unsigned kind = rng() % 4;
             std::string head, line, tail;
