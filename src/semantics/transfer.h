@@ -48,14 +48,15 @@ bool repeat_leaves_state(const MacroSpec& spec, const ModalState& before, const 
 
 // Whether apply_block, given a repeat of the block it applied last (the
 // same line but for the values of the plane's position words, numbers both
-// times), from the state that block left, leaves it as it is, when that
-// block left the state it found (`before`, the state it left: the engine
-// compares). Such a block is not a CALL (repeat_leaves_state says when):
-// the hole of a modal cycle, a positioning block of a MODIN. The words of
-// the plane are then read for the tool's position alone (a modal cycle
-// keeps no axis word), which `before` holds unknown in the plane, and so
-// does the block's run of a macro when it has one; a catalog macro takes
-// its end point from `ends` (macro_end_repeats).
+// times) from the state that block left (`before`), leaves that state as it
+// is. The engine has checked that the block left the state it found but for
+// the position in the plane. Such a block is a hole of a modal cycle or a
+// positioning block of a MODIN (for a CALL: repeat_leaves_state). It does
+// when `before` holds the position in the plane unknown: the block left it
+// unknown for a reason its values do not change (a macro's run, G90/G91 not
+// known), and the values are read for that position alone (a modal cycle
+// keeps no axis word); and when a catalog macro the block runs takes its end
+// point from `ends` (macro_end_repeats).
 bool repeat_keeps_state(const Block& b, const MacroCall* call, const ModalState& before, const MacroEndMemo& ends);
 
 // Applies one block to the state. `ends`, when set, is the walk's memo of
