@@ -41,7 +41,9 @@ done
 depends=$(dpkg-deb -f "$deb" Depends)
 mapfile -t depended < <(tr ',' '\n' <<<"$depends" | sed -E 's/^ *([^ (]+).*/\1/')
 for p in "${depended[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" &&
+  # grep reads a string, not a pipe: under pipefail a writer that grep -q
+  # leaves behind (SIGPIPE) would fail the check now and then.
+  grep -q "install ok installed" <<<"$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)" &&
     ok "depends on $p, a Debian package" || not_ok "depends on $p, which is no installed package"
 done
 root=$tmp/root
@@ -70,7 +72,7 @@ for elf in "$root/usr/bin/osplint" "$root"/usr/lib*/libosplint.so.*.*.*; do
     owner=$([[ -n $path ]] && owner_of "$path" || true)
     if [[ -z $owner ]]; then
       not_ok "$(basename "$elf") needs $lib ($path), which no package provides"
-    elif printf '%s\n' "${depended[@]}" | grep -qxF "$owner"; then
+    elif grep -qxF "$owner" <<<"$(printf '%s\n' "${depended[@]}")"; then
       ok "$(basename "$elf") needs $lib, from $owner"
     else
       not_ok "$(basename "$elf") needs $lib from $owner, which Depends does not name"
