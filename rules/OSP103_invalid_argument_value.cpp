@@ -123,6 +123,15 @@ public:
     bool quiet_on_repeat(const Config& config, const MacroSpec* spec) const override {
         return !macro::reads_position_value(config.catalog, spec);
     }
+    // A CALL whose constraints and relations read none of the arguments its
+    // repeats change; a hole of a G-code macro cycle (G114): the cycle's
+    // arguments were checked where it was commanded, and its repeats have none.
+    bool quiet_on_repeat_of(const BlockView& v) const override {
+        if (const MacroSpec* spec = macro::shop_macro(v.call))
+            return v.call->kind == CallKind::Call && v.before.plane.known &&
+                   !macro::reads_repeat_value(*spec, v.before.plane.value);
+        return !v.call && v.after.cycle.known && v.after.cycle.value && !v.after.cycle.value->macro.empty();
+    }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         std::optional<Plane> plane;
         if (v.before.plane.known) plane = v.before.plane.value;

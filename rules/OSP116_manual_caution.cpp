@@ -83,6 +83,16 @@ public:
     bool quiet_on_repeat(const Config& config, const MacroSpec* spec) const override {
         return !macro::reads_position_value(config.catalog, spec);
     }
+    // A CALL whose cautions read none of the arguments its repeats change (the
+    // modal state they read is the same); a hole of a cycle commanded earlier
+    // (or of a G-code macro cycle): its repeats command nothing either.
+    bool quiet_on_repeat_of(const BlockView& v) const override {
+        if (const MacroSpec* spec = macro::shop_macro(v.call))
+            return v.call->kind == CallKind::Call && v.before.plane.known &&
+                   !macro::reads_repeat_value(*spec, v.before.plane.value);
+        const ActiveCycle* c = v.call ? nullptr : active_cycle(v.after);
+        return c && (!c->macro.empty() || cycle_start(*c, v.block) == CycleStart::Earlier);
+    }
     // Only a macro with cautions, where it is commanded.
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
         return !spec.cautions.empty() && kind != CallKind::ModinPositioning;

@@ -133,6 +133,13 @@ public:
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind) const override {
         return !spec.relations.empty() && !(spec.has_form(MacroForm::GCode) && !spec.cancel.empty());
     }
+    // A CALL the memo holds, whose relations read none of the arguments its
+    // repeats change: check_block returns at the memo on each of them.
+    bool quiet_on_repeat_of(const BlockView& v) const override {
+        const MacroSpec* spec = macro::shop_macro(v.call);
+        if (!spec || v.call->kind != CallKind::Call || !v.before.plane.known) return false;
+        return quiet_.holds_repeat(*spec, *v.call, v.before.plane.value, macro::repeat_args(*spec, v.before.plane.value));
+    }
     void begin_program(RuleContext&, const ProgramView&) override { reported_.clear(); }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -91,6 +92,17 @@ public:
             if (!(ArgSeen::of(c.given(s.args[named_[i]])) == args_[i])) return false;
         return true;
     }
+    // Whether a call that repeats `c` but for the values of `varying` (the
+    // engine's repeats, repeat_args) is one same() holds: c is the call
+    // remembered, and the rule reads none of `varying`.
+    bool holds_repeat(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p,
+                      const std::array<const ArgSpec*, 2>& varying) const {
+        if (!same(s, c, p)) return false;
+        for (const ArgSpec* a : varying)
+            if (a && std::find(named_.begin(), named_.end(), static_cast<size_t>(a - s.args.data())) != named_.end())
+                return false;
+        return true;
+    }
     // `names(s, add)` calls add(index) for each argument the rule reads.
     template <class Names>
     void remember(const MacroSpec& s, const MacroCall& c, std::optional<Plane> p, Names&& names) {
@@ -135,20 +147,19 @@ inline bool gives_position(const MacroSpec& spec, const ArgSpec& a) {
 }
 
 // Whether a value constraint, a relation, a condition or an at-least-one
-// requirement of `spec` reads the value of such an argument: a rule that
-// checks them cannot say a block moved in the plane repeats the one before
-// (Rule::quiet_on_repeat). Whether an argument is given does not count: a
-// repeat gives the same ones.
-inline bool reads_position_value(const MacroSpec& spec) {
+// requirement of `spec` reads the value of an argument `pick` picks.
+// Whether an argument is given does not count: a repeat gives the same ones.
+template <class Pick>
+bool reads_value_of(const MacroSpec& spec, Pick&& pick) {
     for (const ArgSpec& a : spec.args)
-        if ((!a.allowed.empty() || a.sign != ArgSign::Any) && gives_position(spec, a)) return true;
-    const auto names_position = [&](const std::string& name) {
+        if ((!a.allowed.empty() || a.sign != ArgSign::Any) && pick(a)) return true;
+    const auto names = [&](const std::string& name) {
         const ArgSpec* a = spec.arg(name);
-        return a && gives_position(spec, *a);
+        return a && pick(*a);
     };
     const auto condition = [&](const Condition& c) {
         for (const ConditionAtom* at : c.atoms())
-            if (at->kind == ConditionAtom::Kind::ArgEquals && names_position(at->arg)) return true;
+            if (at->kind == ConditionAtom::Kind::ArgEquals && names(at->arg)) return true;
         return false;
     };
     RelationSides local;
@@ -156,16 +167,41 @@ inline bool reads_position_value(const MacroSpec& spec) {
         const RelationSides& sides = sides_of(spec, i, local);
         for (const std::vector<int>* args : {&sides.left_args, &sides.right_args})
             for (int k : *args)
-                if (k >= 0 && gives_position(spec, spec.args[static_cast<size_t>(k)])) return true;
+                if (k >= 0 && pick(spec.args[static_cast<size_t>(k)])) return true;
         if (condition(spec.relations[i].when)) return true;
     }
     for (const Caution& c : spec.cautions)
         if (condition(c.when)) return true;
     for (const auto& req : spec.at_least_one)
         for (const auto& n : req.args)
-            if (names_position(n)) return true;
+            if (names(n)) return true;
     return false;
 }
+
+// Whether they read the value of an argument that may give a position in
+// the plane, in any plane and form (gives_position): a rule that checks them
+// cannot say a block moved in the plane repeats the one before
+// (Rule::quiet_on_repeat).
+inline bool reads_position_value(const MacroSpec& spec) {
+    return reads_value_of(spec, [&](const ArgSpec& a) { return gives_position(spec, a); });
+}
+
+// The arguments a repeat of a CALL of `spec` in `plane` gives other values
+// (the engine's repeats): its positioning arguments of the plane's two axes.
+inline std::array<const ArgSpec*, 2> repeat_args(const MacroSpec& spec, Plane plane) {
+    const int number = plane_number(plane);
+    const PlaneAxes pa = plane_axes(plane);
+    return {spec.position_arg(number, pa.first), spec.position_arg(number, pa.second)};
+}
+
+// Whether they read the value of one of those: for a CALL of `spec` in a
+// known plane, a rule that checks only them (and is quiet on the call) is
+// quiet on its repeats (Rule::quiet_on_repeat_of).
+inline bool reads_repeat_value(const MacroSpec& spec, Plane plane) {
+    const auto varying = repeat_args(spec, plane);
+    return reads_value_of(spec, [&](const ArgSpec& a) { return &a == varying[0] || &a == varying[1]; });
+}
+
 // The same for a block that runs `spec`, or (nullptr) no catalog macro: then
 // of every fixed cycle, which such a block may run.
 inline bool reads_position_value(const Catalog& catalog, const MacroSpec* spec) {

@@ -931,10 +931,11 @@ bool Walk::repeatable(const Block& b, const MacroCall* c, const ModalState& befo
     if (c && c->kind == CallKind::MCode) return false;
     const PlaneAxes axes = plane_axes(before.plane.value);
     spans.count = 0;
-    const auto add = [&](const Word& w) {
+    const auto add = [&](const Word& w, char axis) {
         if (!w.number || spans.count == 2 || w.value_range.begin < line.start ||
             w.value_range.end > line.start + line.text.size())
             return false;
+        spans.axis[spans.count] = axis;
         spans.at[spans.count++] = {w.value_range.begin - line.start, w.value_range.end - line.start};
         return true;
     };
@@ -943,12 +944,16 @@ bool Walk::repeatable(const Block& b, const MacroCall* c, const ModalState& befo
         for (const char axis : {axes.first, axes.second}) {
             const ArgSpec* a = c->spec->position_arg(plane, axis);
             const MacroArg* m = a ? c->given(*a) : nullptr;
-            if (m && m->word && !add(*m->word)) return false;
+            if (m && m->word && !add(*m->word, axis)) return false;
         }
-        if (spans.count == 2 && spans.at[1].begin < spans.at[0].begin) std::swap(spans.at[0], spans.at[1]);
+        if (spans.count == 2 && spans.at[1].begin < spans.at[0].begin) {
+            std::swap(spans.at[0], spans.at[1]);
+            std::swap(spans.axis[0], spans.axis[1]);
+        }
     } else {
         for (const Word& w : b.words)
-            if (w.address.size() == 1 && (w.address[0] == axes.first || w.address[0] == axes.second) && !add(w))
+            if (w.address.size() == 1 && (w.address[0] == axes.first || w.address[0] == axes.second) &&
+                !add(w, w.address[0]))
                 return false;
     }
     return true;
@@ -984,7 +989,7 @@ Walk::Repeated Walk::repeated(const Block& b, const MacroCall* c, const ModalSta
     return Repeated::Yes;
 }
 
-bool Walk::repeats_text(std::string_view t) const {
+bool Walk::repeats_text(std::string_view t, std::array<double, 2>& values) const {
     const std::string& k = repeat_.text;
     uint32_t from = 0, at = 0;  // in t, in k
     for (uint8_t i = 0;; ++i) {
@@ -994,7 +999,7 @@ bool Walk::repeats_text(std::string_view t) const {
         from += len;
         if (i == repeat_.count) return from == t.size();
         at = cut;
-        const uint32_t end = FastLineParser::plain_value_end(t, from);
+        const uint32_t end = FastLineParser::plain_value(t, from, values[i]);
         if (end == from) return false;
         from = end;
     }
@@ -1007,10 +1012,16 @@ bool Walk::repeats_text(std::string_view t) const {
 // Only in a batch walk outside loops (no checkpoint, no observer), where no
 // path joins at the line and control does not fall off the program after it.
 bool Walk::repeat_line(const LineRef& line) {
+    std::array<double, 2> values{};
     if (!repeat_.armed || !repeat_.from_text || repeat_.transfers != stats_.transfers ||
-        repeat_.epoch != flow_epoch_ || !reachable_ || line.end() >= flow_.end() || !repeats_text(line.text) ||
-        pending_offset_.find(line.start) || flow_.loop_at_head(line.start))
+        repeat_.epoch != flow_epoch_ || !reachable_ || line.end() >= flow_.end() ||
+        !repeats_text(line.text, values) || pending_offset_.find(line.start) || flow_.loop_at_head(line.start))
         return false;
+    if (repeat_.sets_plane) {
+        // A_ is the state the block before left (Walk::leave).
+        for (uint8_t i = 0; i < repeat_.count; ++i) *A_->axis_ref(repeat_.axes[i]) = Val<double>::of(values[i]);
+        near_ = false;
+    }
     ++stats_.transfers;
     ++stats_.repeats;
     ++stats_.text_repeats;
@@ -1082,13 +1093,19 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
             }
             // Asked again after a repeat: a rule that saw it may be quiet now,
             // and the transfer step's memos are those the block left.
-            repeat_.from_text =
-                runs_ok_ && !options_.observer && !in_loop_ && !held_ &&
-                std::all_of(repeat_.rules->begin(), repeat_.rules->end(),
-                            [&](const Rule* r) { return r->quiet_on_repeat_of(view); }) &&
-                (repeat_.kind == CallKind::Call
-                     ? plain_call && repeat_leaves_state(*repeat_.spec, *B_, call_transfers_, macro_ends_)
-                     : repeat_keeps_state(view.block, view.call, *B_, macro_ends_));
+            repeat_.sets_plane = false;
+            repeat_.from_text = runs_ok_ && !options_.observer && !in_loop_ && !held_ &&
+                                std::all_of(repeat_.rules->begin(), repeat_.rules->end(),
+                                            [&](const Rule* r) { return r->quiet_on_repeat_of(view); });
+            if (!repeat_.from_text) {
+            } else if (repeat_.kind == CallKind::Call) {
+                repeat_.from_text =
+                    plain_call && repeat_leaves_state(*repeat_.spec, *B_, call_transfers_, macro_ends_);
+            } else if (!repeat_keeps_state(view.block, view.call, *B_, macro_ends_)) {
+                // Or the repeat moves the tool to its values (the same spans, in the same order).
+                repeat_.sets_plane = repeat_.from_text = repeat_sets_plane(view.block, view.call, *B_);
+                repeat_.axes = spans.axis;
+            }
         }
     }
     if (options_.observer && !options_.observer->block(view, line)) stop_ = true;

@@ -432,11 +432,16 @@ private:
         // it is (a plain call, a hole, a positioning block), in a batch walk
         // outside loops: a repeat of it may be applied from its text (repeat_line).
         bool from_text = false;
+        // Such a repeat sets the position in the plane to its values
+        // (repeat_sets_plane): the axis of each cut, in `axes`.
+        bool sets_plane = false;
+        std::array<char, 2> axes{};
     };
     // Where the values of the plane's position words are on a block that may
     // be repeated (offsets in its line): at most two.
     struct RepeatSpans {
         std::array<ByteRange, 2> at{};
+        std::array<char, 2> axis{};  // the plane axis each value positions
         uint8_t count = 0;
     };
     bool repeatable(const Block& b, const MacroCall* call, const ModalState& before, const LineRef& line,
@@ -451,8 +456,9 @@ private:
     // its text and applied without a block: the state stays as that block
     // left it and no rule sees it. False for any other line (it is then parsed).
     bool repeat_line(const LineRef& line);
-    // Whether `text` is repeat_.text with a plain number at each cut.
-    bool repeats_text(std::string_view text) const;
+    // Whether `text` is repeat_.text with a plain number at each cut; those
+    // numbers in `values`.
+    bool repeats_text(std::string_view text, std::array<double, 2>& values) const;
     const std::vector<Rule*>& repeat_rules_of(const MacroSpec* spec, CallKind kind, bool plain_call);
     Repeat repeat_;
     std::map<std::tuple<const MacroSpec*, CallKind, bool>, std::vector<Rule*>> repeat_rules_of_;

@@ -847,6 +847,28 @@ bool repeat_keeps_state(const Block& b, const MacroCall* call, const ModalState&
     return call && call->spec && macro_end_repeats(ends, *call->spec, before);
 }
 
+bool repeat_sets_plane(const Block& b, const MacroCall* call, const ModalState& before) {
+    if (b.kind != LineKind::Block || call || !b.statements.empty() || !before.plane.known || before.ncyl ||
+        before.noex || before.g100 || !before.distance.is(Distance::Absolute))
+        return false;
+    const PlaneAxes pa = plane_axes(before.plane.value);
+    bool moves = false;
+    for (const auto& w : b.words) {
+        if (w.address.size() != 1) continue;
+        const char a = w.address[0];
+        if (a == 'G') {
+            const std::optional<int> g = code_of(w);
+            if (!g) return false;
+            for (int c : {4, 71, 92, 50, 22, 23})
+                if (*g == c) return false;
+        } else if (a == pa.first || a == pa.second) {
+            if (!w.number || !(before.axis(a) == Val<double>::of(*w.number))) return false;
+            moves = true;
+        }
+    }
+    return moves;
+}
+
 bool is_plain_move_block(const Block& b) {
     if (b.kind != LineKind::Block || b.program_name || b.block_delete || b.words.empty() || !b.statements.empty() ||
         !b.assignments.empty() || !b.errors.empty())

@@ -59,6 +59,17 @@ bool repeat_leaves_state(const MacroSpec& spec, const ModalState& before, const 
 // point from `ends` (macro_end_repeats).
 bool repeat_keeps_state(const Block& b, const MacroCall* call, const ModalState& before, const MacroEndMemo& ends);
 
+// Whether apply_block, given such a repeat of a block that runs no macro and
+// calls nothing (a hole of a modal cycle, a move under one), from the state
+// that block left (`before`), sets the position in the plane to the repeat's
+// values and leaves the rest of that state as it is. It does in absolute
+// mode, when the block commands nothing that keeps its axis words from
+// moving the tool (G4, G71, G92, G50, G22, G23) and `before` holds each of
+// its plane position words' values (the block moved the tool there). The
+// cycle axis and the cycle's values do not depend on the position in the
+// plane. The engine then sets that position from the repeat's text.
+bool repeat_sets_plane(const Block& b, const MacroCall* call, const ModalState& before);
+
 // Applies one block to the state. `ends`, when set, is the walk's memo of
 // the last macro call's end point (macro_end); `calls`, of the last plain
 // call (CallTransferMemo). Both are caches: the state is the same without.

@@ -323,6 +323,16 @@ uint32_t FastLineParser::plain_value_end(std::string_view text, uint32_t p) {
     return plain_value_end_at(text.data(), p, static_cast<uint32_t>(text.size()));
 }
 
+uint32_t FastLineParser::plain_value(std::string_view text, uint32_t p, double& value) {
+    const uint32_t end = plain_value_end(text, p);
+    if (end == p) return p;
+    const bool minus = text[p] == '-';
+    const uint32_t q = p + static_cast<uint32_t>(text[p] == '+' || minus);
+    scan_number_at(text.data(), q, end, value);
+    if (minus) value = -value;
+    return end;
+}
+
 // Blanks and `Pname=number` items up to the end of the line.
 bool FastLineParser::Impl::plain_call_args(uint32_t p) const {
     PlainArg a;

@@ -69,6 +69,8 @@ public:
     // most 15 digits, then a blank or the end of the text; `p` when there is
     // no such value there.
     static uint32_t plain_value_end(std::string_view text, uint32_t p);
+    // The same, and its value as parse reads it (the sign applied) in `value`.
+    static uint32_t plain_value(std::string_view text, uint32_t p, double& value);
 
     // As parse, but a plain move of the simplest shape (last_plain) is filled
     // in part: its sequence name and, of each word, the address, the range and

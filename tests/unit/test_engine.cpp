@@ -868,6 +868,31 @@ TEST_CASE("engine: a block that repeats the one before moved in the plane gives 
         CHECK_MESSAGE(seen[id] > 0, id);
 }
 
+TEST_CASE("engine: a repeated call is told from its text only while no rule reads the values it changes") {
+    // OKYOY's constraints, relations and cautions read neither PX nor PY:
+    // its repeats are told from their text. A shop that constrains PX (a
+    // positive value) makes OSP103 read it: every call is then checked, and
+    // the one with a negative PX is reported.
+    std::string text = "O1000\nG15 H1\nT1 M6\nG0 G90 X0 Y0\nG56 Z50. H1\nS3000 M3\n";  // 1-6
+    for (int i = 0; i < 8; ++i)                                                          // 7-14
+        text += "CALL OKYOY PX=" + std::to_string(i == 5 ? -3 : i + 1) +
+                ". PY=20. PR=2. PZ=-5. PI=20. PJ=8. PD=6 PF=250 PFA=80 PS=3000\n";
+    text += "G0 Z50.\nM30\n";
+    EngineStats catalog_stats, shop_stats;
+    compare_checks("okyoy.min", text, Config{}, {}, &catalog_stats);
+    CHECK(catalog_stats.text_repeats == 5);  // 10-14: the first three set the state and the memos
+    const Config shop = parse_config("[macro.OKYOY.arg.PX]\nsign = \"positive\"\n", "osplint.toml");
+    compare_checks("okyoy.min", text, shop, {}, &shop_stats);
+    CHECK(shop_stats.text_repeats == 0);
+    int reported = 0;
+    for (const auto& d : check_text("okyoy.min", text, shop, {}).diagnostics) {
+        CHECK(d.rule == "OSP103");
+        CHECK(d.range.start.line == 12);
+        ++reported;
+    }
+    CHECK(reported == 1);
+}
+
 namespace {
 // What resolve_call gives, field by field (the words by address: the blocks
 // compared are the same block).

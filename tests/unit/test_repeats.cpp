@@ -181,8 +181,9 @@ TEST_CASE("engine: a rule is left out on a block that repeats the one before mov
     const std::vector<uint32_t> out = left_out(s, 5, 38);
     CHECK(out == std::vector<uint32_t>{7, 8, 14, 17, 18, 20, 22, 25, 28, 31, 35});
     CHECK(s.repeats == out.size() - 2);  // all but the plain moves
-    // The plain calls among them (not 22, with its comment) are told from their text.
-    CHECK(s.from_text == 5);
+    // The plain calls among them (not 22, with its comment) are told from
+    // their text, and so are the holes (they set the position to their values).
+    CHECK(s.from_text == 8);
 }
 
 TEST_CASE("engine: a call is told a repeat from its text only when its values are plain numbers") {
@@ -206,11 +207,12 @@ TEST_CASE("engine: a call is told a repeat from its text only when its values ar
     CHECK(s.from_text == 5);
 }
 
-TEST_CASE("engine: positioning blocks that leave the position unknown are told repeats from their text") {
+TEST_CASE("engine: positioning blocks and holes are told repeats from their text") {
     // Under MODIN the macro runs at every positioning block and leaves the
     // position in the plane unknown: once a block left the state as it found
     // it, the next ones are told from their text. A hole of G114 leaves the
-    // position at its X and Y: its repeats are parsed, and still left out.
+    // position at its X and Y: its repeats are told from their text too,
+    // and set that position to their values.
     const std::string text =
         kStart +                                                        // 1-4
         "MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500\n"    // 5
@@ -225,13 +227,13 @@ TEST_CASE("engine: positioning blocks that leave the position unknown are told r
         "G114 R10 Z-21.5 F1200 FA=1300 X0 Y0\n"                         // 14
         "X1. Y1.\n"                                                     // 15
         "X2. Y1.\n"                                                     // 16
-        "X3. Y1.\n"                                                     // 17 left out, parsed
-        "X4. Y1.\n"                                                     // 18 left out, parsed
+        "X3. Y1.\n"                                                     // 17 from its text
+        "X4. Y1.\n"                                                     // 18 from its text
         "M204\n"                                                        // 19
         "M30\n";                                                        // 20
     const Shown s = shown(text);
     CHECK(left_out(s, 5, 20) == std::vector<uint32_t>{8, 9, 12, 17, 18});
-    CHECK(s.from_text == 3);
+    CHECK(s.from_text == 5);
 }
 
 TEST_CASE("engine: a block told a repeat from its text leaves the state a walk that reads it would") {
