@@ -46,11 +46,13 @@ public:
     }
 
     // Once the macro is named and the notes' calls are held, another call
-    // of it with no variable in its line adds nothing.
+    // of it with no variable in its line adds nothing; nor does a
+    // positioning block of an open MODIN (the MODIN line was the call).
     bool quiet_on_repeat_of(const BlockView& v) const override {
         const MacroCall* c = v.call;
-        if (!c || !c->spec || c->summary || calls_.size() < kShownCalls ||
-            std::find(specs_.begin(), specs_.end(), c->spec) == specs_.end())
+        if (!c || !c->spec || c->summary) return false;
+        if (c->kind != CallKind::ModinPositioning &&
+            (calls_.size() < kShownCalls || std::find(specs_.begin(), specs_.end(), c->spec) == specs_.end()))
             return false;
         return std::none_of(v.block.exprs.begin(), v.block.exprs.end(),
                             [](const ExprNode& n) { return n.kind == ExprKind::Variable; });

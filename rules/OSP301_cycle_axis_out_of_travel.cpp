@@ -93,6 +93,79 @@ public:
         report_envelope(ctx, v, config);
     }
 
+    // A repeat of a quiet CALL or hole in absolute mode, whose points on the
+    // cycle axis the memo holds (its steps read neither position argument):
+    // check_block looks at the positioning plane only, where every point and
+    // span of the envelope is the position words' values plus an offset that
+    // the repeat does not change. The offsets of `v` are kept, per axis.
+    bool repeat_values_decide(const Config& config, const BlockView& v, const std::array<char, 2>& axes,
+                              uint8_t count) override {
+        if (config.travel.empty() || v.plain_move || count != 2 || !v.before.plane.known ||
+            !v.before.distance.is(Distance::Absolute))
+            return false;
+        const Plane plane = v.before.plane.value;
+        std::array<double, 2> at{};
+        // The values: a CALL's positioning arguments, else the block's words.
+        const auto word_values = [&] {
+            for (size_t i = 0; i < 2; ++i) {
+                const Word* w = v.block.find(std::string_view(&axes[i], 1));
+                if (!w || !w->number) return false;
+                at[i] = *w->number;
+            }
+            return true;
+        };
+        if (v.call) {
+            // A CALL, or a positioning block of an open MODIN (its words position it).
+            const CallKind kind = v.call->kind;
+            if ((kind != CallKind::Call && kind != CallKind::ModinPositioning) || !v.call->spec ||
+                !axis_quiet_.same(v, config.travel))
+                return false;
+            const MacroSpec& spec = *v.call->spec;
+            const std::vector<uint16_t>& reads = *spec.action_args();  // listed: the memo holds the call
+            for (size_t i = 0; i < 2; ++i) {
+                const ArgSpec* a = spec.position_arg(plane_number(plane), axes[i]);
+                if (a && std::find(reads.begin(), reads.end(), static_cast<uint16_t>(a - spec.args.data())) != reads.end())
+                    return false;
+                if (kind == CallKind::ModinPositioning) continue;
+                const MacroArg* m = a ? v.call->given(*a) : nullptr;
+                if (!m || !m->value.known) return false;
+                at[i] = m->value.value;
+            }
+            if (kind == CallKind::ModinPositioning && !word_values()) return false;
+        } else if (!hole_quiet_.same(v, config) || !word_values()) {
+            return false;
+        }
+        const std::optional<Envelope> env = cycle_envelope(v, config, EnvelopeDetail::Plane);
+        if (!env) return false;
+        for (size_t i = 0; i < 2; ++i) {
+            Offsets& o = offsets_[i];
+            o = Offsets{};
+            const auto it = config.travel.find(axes[i]);
+            if (it == config.travel.end()) continue;
+            const auto take = [&](double lo, double hi) {
+                o.lo = o.any ? std::min(o.lo, lo - at[i]) : lo - at[i];
+                o.hi = o.any ? std::max(o.hi, hi - at[i]) : hi - at[i];
+                o.any = true;
+            };
+            for (const auto& p : env->plane_points)
+                if (p.axis == axes[i] && p.what.rfind("current", 0) != 0) take(p.value, p.value);
+            for (const auto& s : env->plane_spans)
+                if (s.axis == axes[i] && !s.either_way) take(s.range.lo, s.range.hi);
+            o.travel = it->second;
+        }
+        return true;
+    }
+    // Inside the travel with a margin that the offsets' rounding cannot cross.
+    bool quiet_on_repeat_at(const std::array<double, 2>& values) const override {
+        constexpr double kMargin = 1e-6;
+        for (size_t i = 0; i < 2; ++i) {
+            const Offsets& o = offsets_[i];
+            if (o.any && !(values[i] + o.lo >= o.travel.min + kMargin && values[i] + o.hi <= o.travel.max - kMargin))
+                return false;
+        }
+        return true;
+    }
+
     // A plain move read without its block: the same check as check_block's.
     bool takes_plain_values() const override { return true; }
     // A plain move in absolute mode moves each axis to its word's value, and
@@ -172,6 +245,14 @@ private:
     // leaves it out).
     MacroAxisMemo axis_quiet_;
     HoleAxisMemo hole_quiet_;
+    // Of the block repeat_values_decide said so of, per position word: where
+    // its envelope reaches in the plane, from the word's value.
+    struct Offsets {
+        bool any = false;
+        double lo = 0, hi = 0;
+        TravelLimit travel;
+    };
+    std::array<Offsets, 2> offsets_{};
 
 public:
     bool same_as(const CycleAxisOutOfTravel&) const { return true; }

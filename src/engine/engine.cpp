@@ -1017,6 +1017,8 @@ bool Walk::repeat_line(const LineRef& line) {
         repeat_.epoch != flow_epoch_ || !reachable_ || line.end() >= flow_.end() ||
         !repeats_text(line.text, values) || pending_offset_.find(line.start) || flow_.loop_at_head(line.start))
         return false;
+    for (const Rule* r : repeat_.value_rules)
+        if (!r->quiet_on_repeat_at(values)) return false;
     if (repeat_.sets_plane) {
         // A_ is the state the block before left (Walk::leave).
         for (uint8_t i = 0; i < repeat_.count; ++i) *A_->axis_ref(repeat_.axes[i]) = Val<double>::of(values[i]);
@@ -1094,9 +1096,16 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
             // Asked again after a repeat: a rule that saw it may be quiet now,
             // and the transfer step's memos are those the block left.
             repeat_.sets_plane = false;
-            repeat_.from_text = runs_ok_ && !options_.observer && !in_loop_ && !held_ &&
-                                std::all_of(repeat_.rules->begin(), repeat_.rules->end(),
-                                            [&](const Rule* r) { return r->quiet_on_repeat_of(view); });
+            repeat_.from_text = runs_ok_ && !options_.observer && !in_loop_ && !held_;
+            repeat_.value_rules.clear();
+            for (Rule* r : *repeat_.rules) {
+                if (!repeat_.from_text) break;
+                if (r->quiet_on_repeat_of(view)) continue;
+                if (r->repeat_values_decide(config_, view, spans.axis, spans.count))
+                    repeat_.value_rules.push_back(r);
+                else
+                    repeat_.from_text = false;
+            }
             if (!repeat_.from_text) {
             } else if (repeat_.kind == CallKind::Call) {
                 repeat_.from_text =

@@ -241,6 +241,25 @@ public:
         (void)v;
         return false;
     }
+    // For a rule that is not quiet_on_repeat_of(v): whether what check_block
+    // would do on a repeat of `v` depends only on the values of the position
+    // words the repeat changes (their plane axes in `axes`, in line order),
+    // and is nothing for some of them (OSP301: the travel limits). The rule
+    // keeps what it needs for quiet_on_repeat_at; the walk asks after each
+    // block that may be repeated.
+    virtual bool repeat_values_decide(const Config& config, const BlockView& v, const std::array<char, 2>& axes,
+                                      uint8_t count) {
+        (void)config, (void)v, (void)axes, (void)count;
+        return false;
+    }
+    // After repeat_values_decide said so: whether check_block would do
+    // nothing on a repeat whose values are `values` (in the order of `axes`),
+    // nor change the rule's state. A repeat it says no to is parsed and shown
+    // to the rule.
+    virtual bool quiet_on_repeat_at(const std::array<double, 2>& values) const {
+        (void)values;
+        return false;
+    }
     // A rule that sees plain moves may say, from what it has seen so far, that
     // the plain moves to come do not matter to it until its next call for
     // another block (OSP004 once it knows where the program's content starts).

@@ -436,6 +436,9 @@ private:
         // (repeat_sets_plane): the axis of each cut, in `axes`.
         bool sets_plane = false;
         std::array<char, 2> axes{};
+        // The rules that tell from a repeat's values whether it is quiet
+        // (Rule::repeat_values_decide), asked on each such repeat.
+        std::vector<Rule*> value_rules;
     };
     // Where the values of the plane's position words are on a block that may
     // be repeated (offsets in its line): at most two.

@@ -850,12 +850,12 @@ TEST_CASE("engine: a block that repeats the one before moved in the plane gives 
     // gave no finding (Rule::quiet_on_repeat).
     // A plain call's repeat is told from its text, without a block (Walk::repeat_line).
     std::map<std::string, int> seen;
-    uint64_t from_text = 0;
+    uint64_t from_text = 0, limits_from_text = 0;
     const uint64_t repeats = compare_generated(
         "repeats", 1211, repeat_runs_program,
         [&](const EngineStats& st, const EngineStats& without) {
-            // With travel limits OSP301 sees every call: none is told from its text.
-            CHECK(st.text_repeats == 0);
+            // With travel limits OSP301 tells a repeat from its values (Rule::quiet_on_repeat_at).
+            limits_from_text += st.text_repeats;
             from_text += without.text_repeats;
             return st.repeats;
         },
@@ -863,9 +863,60 @@ TEST_CASE("engine: a block that repeats the one before moved in the plane gives 
     CHECK(repeats > 2000);
     CHECK(from_text > 300);
     CHECK(from_text < repeats);
+    CHECK(limits_from_text > 300);
+    CHECK(limits_from_text <= from_text);
     for (const std::string id : {"OSP101", "OSP106", "OSP109", "OSP110", "OSP111", "OSP206", "OSP208", "OSP213",
                                  "OSP301", "OSP302"})
         CHECK_MESSAGE(seen[id] > 0, id);
+}
+
+TEST_CASE("engine: with travel limits, repeats near a limit give the reference's result") {
+    // OSP301 tells a repeat from its values (the envelope's offsets from its
+    // position words): runs of calls whose slot or counterbore reaches past
+    // the X or Y travel by a little, of holes and of MODIN positioning
+    // blocks, up to the limit, on it and past it. Each program is checked
+    // beside the reference, which shows every rule every block.
+    const std::vector<std::string> runs = {
+        "CALL OKYLX PX=%X PY=%Y PR=3. PZ=-5. PI=60. PJ=8. PD=21 PF=250 PFA=80\n",
+        "CALL OKYOY PX=%X PY=%Y PR=2. PZ=-5. PI=20. PJ=8. PD=6 PF=250 PFA=80 PS=3000\n",
+        "CALL OZAGR PX=%X PY=%Y PR=5. PZ=-29. PI=6. PJ=1.5 PF=50 PFA=400 PFB=200 PP=.3 PS=600\n",
+        "CALL OM100 PX=%X PY=%Y PR=5. PZ=-32. PI=4. PK=12. PF=150 PFA=600 PS=1200 PT=35.\n",
+        "MODIN OG87C PR=5. PZ=-25. PC=30. PI=2. PJ=6. PD=3 PF=40 PS=500\n|X%X Y%Y\n|MODOUT\n",
+        "G81 X0 Y0 Z-10. R2. F100\n|X%X Y%Y\n|G80\n",
+        "G114 R10 Z-21.5 F1200 FA=1300 X0 Y0\n|X%X Y%Y\n|M204\nS800 M3\n",
+        "MODIN OG87N PR=5. PZ=-25. PL=4. PI=2. PJ=6. PF=40 PS=500\n|X%X Y%Y\n|MODOUT\n",
+    };
+    const Config config = with_travel(-40);  // X -300..300, Y -200..200
+    uint64_t told = 0;
+    std::map<std::string, int> seen;
+    for (size_t r = 0; r < runs.size(); ++r) {
+        std::string head, line = runs[r], tail;
+        if (const size_t bar = line.find('|'); bar != std::string::npos) {
+            head = line.substr(0, bar);
+            line = line.substr(bar + 1);
+            tail = line.substr(line.find('|') + 1);
+            line = line.substr(0, line.find('|'));
+        }
+        std::string text = "O1000\nG15 H1\nT1 M6\nG0 G90 X0 Y0\nG56 Z50. H1\nS600 M3\n" + head;
+        // X from 200 to 320 by 2.5 and back, Y at its limit now and then.
+        for (int i = 0; i <= 96; ++i) {
+            const double x = i <= 48 ? 200 + 2.5 * i : 320 - 2.5 * (i - 48);
+            const std::string y = i % 8 == 0 ? "200." : i % 8 == 4 ? "-200.000001" : "10.";
+            std::string l = line;
+            l.replace(l.find("%X"), 2, std::to_string(x));
+            l.replace(l.find("%Y"), 2, y);
+            text += l;
+        }
+        text += tail + "G0 Z50.\nM30\n";
+        EngineStats st;
+        compare_checks("near" + std::to_string(r) + ".min", text, config, {}, &st);
+        told += st.text_repeats;
+        AnalysisOptions options;
+        options.fold = 0;
+        for (const auto& d : check_text("near.min", text, config, options).diagnostics) ++seen[d.rule];
+    }
+    CHECK(told > 100);
+    CHECK(seen["OSP301"] > 100);
 }
 
 TEST_CASE("engine: a repeated call is told from its text only while no rule reads the values it changes") {
