@@ -989,7 +989,7 @@ Walk::Repeated Walk::repeated(const Block& b, const MacroCall* c, const ModalSta
     return Repeated::Yes;
 }
 
-bool Walk::repeats_text(std::string_view t, std::array<double, 2>& values) const {
+bool Walk::repeats_text(std::string_view t, std::array<double, 2>* values) const {
     const std::string& k = repeat_.text;
     uint32_t from = 0, at = 0;  // in t, in k
     for (uint8_t i = 0;; ++i) {
@@ -999,7 +999,8 @@ bool Walk::repeats_text(std::string_view t, std::array<double, 2>& values) const
         from += len;
         if (i == repeat_.count) return from == t.size();
         at = cut;
-        const uint32_t end = FastLineParser::plain_value(t, from, values[i]);
+        const uint32_t end =
+            values ? FastLineParser::plain_value(t, from, (*values)[i]) : FastLineParser::plain_value_end(t, from);
         if (end == from) return false;
         from = end;
     }
@@ -1015,7 +1016,8 @@ bool Walk::repeat_line(const LineRef& line) {
     std::array<double, 2> values{};
     if (!repeat_.armed || !repeat_.from_text || repeat_.transfers != stats_.transfers ||
         repeat_.epoch != flow_epoch_ || !reachable_ || line.end() >= flow_.end() ||
-        !repeats_text(line.text, values) || pending_offset_.find(line.start) || flow_.loop_at_head(line.start))
+        !repeats_text(line.text, repeat_.sets_plane || !repeat_.value_rules.empty() ? &values : nullptr) ||
+        pending_offset_.find(line.start) || flow_.loop_at_head(line.start))
         return false;
     for (const Rule* r : repeat_.value_rules)
         if (!r->quiet_on_repeat_at(values)) return false;

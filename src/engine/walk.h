@@ -460,8 +460,8 @@ private:
     // left it and no rule sees it. False for any other line (it is then parsed).
     bool repeat_line(const LineRef& line);
     // Whether `text` is repeat_.text with a plain number at each cut; those
-    // numbers in `values`.
-    bool repeats_text(std::string_view text, std::array<double, 2>& values) const;
+    // numbers in `values`, when set.
+    bool repeats_text(std::string_view text, std::array<double, 2>* values) const;
     const std::vector<Rule*>& repeat_rules_of(const MacroSpec* spec, CallKind kind, bool plain_call);
     Repeat repeat_;
     std::map<std::tuple<const MacroSpec*, CallKind, bool>, std::vector<Rule*>> repeat_rules_of_;

@@ -324,11 +324,14 @@ uint32_t FastLineParser::plain_value_end(std::string_view text, uint32_t p) {
 }
 
 uint32_t FastLineParser::plain_value(std::string_view text, uint32_t p, double& value) {
-    const uint32_t end = plain_value_end(text, p);
-    if (end == p) return p;
-    const bool minus = text[p] == '-';
-    const uint32_t q = p + static_cast<uint32_t>(text[p] == '+' || minus);
-    scan_number_at(text.data(), q, end, value);
+    // One pass: scan_number_at reads what literal_end would (digits, a point,
+    // digits; not a point alone), then plain_literal checks what follows.
+    const char* s = text.data();
+    const uint32_t n = static_cast<uint32_t>(text.size());
+    const bool minus = p < n && s[p] == '-';
+    const uint32_t q = p + static_cast<uint32_t>(minus || (p < n && s[p] == '+'));
+    const uint32_t end = scan_number_at(s, q, n, value);
+    if (end == q || !plain_literal(s, q, end, n)) return p;
     if (minus) value = -value;
     return end;
 }

@@ -268,7 +268,7 @@ private:
         const size_t term = (*brk == '\r' && brk + 1 < buf_.data() + end_ && brk[1] == '\n') ? 2 : 1;
         const LineRef line{std::string_view(p, text), std::string_view(brk, term), line_,
                            static_cast<uint32_t>(base_ + pos_)};
-        if (!outline_passes_over(parser_, line)) return false;
+        if (!outline_passes_over(parser_, line, &last_plain_)) return false;
         pos_ += text + term;
         ++line_;
         return true;
@@ -357,6 +357,7 @@ private:
     bool first_found_ = false;
     uint32_t first_offset_ = 0;
     std::vector<size_t> pending_;  // directives waiting for their target block
+    std::string last_plain_;       // the last line plain_call passed over (outline_passes_over)
 };
 
 }  // namespace
@@ -365,12 +366,61 @@ bool may_hold_outline_item(const char* p, const char* e, bool line_start) {
     return next_candidate(p, e, line_start).candidate != nullptr;
 }
 
-bool outline_passes_over(FastLineParser& parser, const LineRef& line) {
+bool outline_passes_over(FastLineParser& parser, const LineRef& line, std::string* last_plain) {
     const uint32_t head = parser.call_head_end(line);
     if (head == 0) return false;
     const char* rest = line.text.data() + head;
     if (!candidate_inside_line(rest, line.text.data() + line.text.size())) return true;
-    return parser.plain_call(line);
+    // A posted program calls the same macro line after line, with other values.
+    if (last_plain && !last_plain->empty() && passes_like(*last_plain, line.text)) return true;
+    if (!parser.plain_call(line)) return false;
+    if (last_plain) last_plain->assign(line.text);
+    return true;
+}
+
+namespace {
+// The first offset from i in a and j in b where they differ (or one ends), as (i, j).
+void skip_same(std::string_view a, size_t& i, std::string_view b, size_t& j) {
+#if defined(__SSE2__)
+    while (i + 16 <= a.size() && j + 16 <= b.size()) {
+        const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a.data() + i));
+        const __m128i y = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b.data() + j));
+        const unsigned diff = ~static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(x, y))) & 0xffffu;
+        if (diff) {
+            const unsigned k = static_cast<unsigned>(__builtin_ctz(diff));
+            i += k;
+            j += k;
+            return;
+        }
+        i += 16;
+        j += 16;
+    }
+#endif
+    while (i < a.size() && j < b.size() && a[i] == b[j]) ++i, ++j;
+}
+}  // namespace
+
+bool passes_like(std::string_view passed, std::string_view text) {
+    const auto value_byte = [](char c) { return (c >= '0' && c <= '9') || c == '.' || c == '+' || c == '-'; };
+    const auto blank = [](char c) { return c == ' ' || c == '\t'; };
+    size_t i = 0, j = 0;
+    while (true) {
+        skip_same(passed, i, text, j);
+        if (i == passed.size() && j == text.size()) return true;
+        // They differ inside a value, or just after one: back to where it starts,
+        // after the `=` (and blanks) of its item. The bytes backed over are the same on both lines.
+        size_t k = i;
+        while (k > 0 && value_byte(passed[k - 1])) --k;
+        size_t eq = k;
+        while (eq > 0 && blank(passed[eq - 1])) --eq;
+        if (eq == 0 || passed[eq - 1] != '=' || i - k > j) return false;
+        const size_t at = j - (i - k);
+        const uint32_t end_passed = FastLineParser::plain_value_end(passed, static_cast<uint32_t>(k));
+        const uint32_t end_text = FastLineParser::plain_value_end(text, static_cast<uint32_t>(at));
+        if (end_passed == k || end_text == at || (end_passed <= i && end_text <= j)) return false;
+        i = end_passed;
+        j = end_text;
+    }
 }
 
 FileOutline outline_file(ByteSource& src, const OutlineOptions& options) {

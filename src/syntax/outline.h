@@ -109,7 +109,16 @@ bool may_hold_outline_item(const char* p, const char* e, bool line_start);
 // MODIN alone on its line (no sequence name, no block delete before it)
 // whose arguments either hold none of the bytes an outlined item must hold
 // or are all `Pname=number` (FastLineParser::plain_call). The outline would
-// take nothing from its block. Exposed for tests.
-bool outline_passes_over(FastLineParser& parser, const LineRef& line);
+// take nothing from its block. With `last_plain`, the last line plain_call
+// passed over (kept there): a line like it (passes_like) is passed over
+// without plain_call. Exposed for tests.
+bool outline_passes_over(FastLineParser& parser, const LineRef& line, std::string* last_plain = nullptr);
+
+// Whether `text` is `passed`, a line outline_passes_over passed over, but
+// for the values of its `name=value` items, each a plain number on both
+// lines (FastLineParser::plain_value_end): outline_passes_over passes it over
+// too (those values hold none of the bytes an outlined item must hold, and
+// plain_call reads them as it read the others). Exposed for tests.
+bool passes_like(std::string_view passed, std::string_view text);
 
 }  // namespace osplint

@@ -906,6 +906,8 @@ TEST_CASE("fast front end: plain_value_end takes a value where both front ends r
         const std::string line = head + value + (i % 3 ? (i % 2 ? " PY=1." : " Y1.") : "");
         const auto at = static_cast<uint32_t>(head.size());
         const uint32_t end = FastLineParser::plain_value_end(line, at);
+        double value_read = 0;
+        CHECK_MESSAGE(FastLineParser::plain_value(line, at, value_read) == end, line);
         if (end == at) continue;
         ++taken;
         CHECK_MESSAGE(end == at + value.size(), line);
@@ -919,7 +921,54 @@ TEST_CASE("fast front end: plain_value_end takes a value where both front ends r
             CHECK_MESSAGE(w->value_range.begin == at, line);
             CHECK_MESSAGE(w->value_range.end == end, line);
             if (w->number) CHECK_MESSAGE(*w->number == std::stod(value), line);
+            if (w->number) CHECK_MESSAGE(*w->number == value_read, line);
         }
     }
     CHECK(taken > 2000);
+}
+
+TEST_CASE("outline: a line that repeats one it passed over but for its values is passed over too") {
+    FastLineParser p;
+    const auto passes = [&](const std::string& text) { return outline_passes_over(p, LineRef{text, "\n", 1, 0}); };
+    const std::string om100 = "CALL OM100 PX=1. PY=2. PR=5. PT=35.";
+    CHECK(passes(om100));
+    CHECK(passes_like(om100, "CALL OM100 PX=-12.5 PY=2. PR=5. PT=35."));
+    CHECK(passes_like(om100, "CALL OM100 PX=1. PY=+.5 PR=5. PT=35"));
+    CHECK(passes_like("CALL OM100 PX= 1. PT=35.", "CALL OM100 PX= 7 PT=35."));
+    CHECK_FALSE(passes_like(om100, "CALL OM100 PX=1.PY=2. PR=5. PT=35."));      // glued
+    CHECK_FALSE(passes_like(om100, "CALL OM100 PX=1. PY=2.  PR=5. PT=35."));    // another blank
+    CHECK_FALSE(passes_like(om100, "CALL OM101 PX=1. PY=2. PR=5. PT=35."));     // another macro
+    CHECK_FALSE(passes_like(om100, "CALL OM100 PX=1. PY=2. PR=5. PT=35. N10"));
+    CHECK_FALSE(passes_like(om100, "CALL OM100 PX=1.2.3 PY=2. PR=5. PT=35."));
+    CHECK_FALSE(passes_like(om100, "CALL OM100 PX=1234567890123456 PY=2. PR=5. PT=35."));
+    CHECK_FALSE(passes_like(om100, "CALL OM100 PX=VC1 PY=2. PR=5. PT=35."));
+    CHECK_FALSE(passes_like("CALL O100 PX=1 (A=5 )", "CALL O100 PX=1 (A=5)"));
+    // Random lines passed over, and random changes of them: every line it
+    // says is like one passed over is passed over.
+    std::mt19937 rng(20261207);
+    const std::string value_bytes = "0123456789.+-";
+    const std::string change_bytes = "0123456789.+-= PTNOEIF()V";
+    const auto random_string = [&](const std::string& from, size_t max) {
+        std::string s(rng() % (max + 1), ' ');
+        for (char& c : s) c = from[rng() % from.size()];
+        return s;
+    };
+    int like = 0;
+    for (int i = 0; i < 20000; ++i) {
+        std::string passed = "CALL OM100";
+        for (int k = 0, n = 1 + static_cast<int>(rng() % 5); k < n; ++k)
+            passed += std::string(" P") + "XYRTZ"[rng() % 5] + (rng() % 4 ? "=" : " = ") + random_string(value_bytes, 17);
+        if (rng() % 8 == 0) passed += " (" + random_string(change_bytes, 6) + ")";
+        if (!passes(passed)) continue;
+        std::string text = passed;
+        for (int k = 0, n = 1 + static_cast<int>(rng() % 3); k < n; ++k) {
+            const size_t at = rng() % (text.size() + 1);
+            text.replace(at, std::min<size_t>(rng() % 4, text.size() - at),
+                         random_string(rng() % 3 ? value_bytes : change_bytes, 4));
+        }
+        if (!passes_like(passed, text)) continue;
+        ++like;
+        REQUIRE_MESSAGE(passes(text), passed << " -> " << text);
+    }
+    CHECK(like > 300);
 }
