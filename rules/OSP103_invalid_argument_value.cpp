@@ -125,14 +125,20 @@ public:
     }
     // A CALL whose constraints and relations read none of the arguments its
     // repeats change; a hole of a G-code macro cycle (G114): the cycle's
-    // arguments were checked where it was commanded, and its repeats have none.
+    // arguments were checked where it was commanded, and its repeats have
+    // none; a hole of a fixed cycle whose checks read neither of the plane's
+    // axis words (check_block found so).
     bool quiet_on_repeat_of(const BlockView& v) const override {
         if (const MacroSpec* spec = macro::shop_macro(v.call))
             return v.call->kind == CallKind::Call && v.before.plane.known &&
                    !macro::reads_repeat_value(*spec, v.before.plane.value);
-        return !v.call && v.after.cycle.known && v.after.cycle.value && !v.after.cycle.value->macro.empty();
+        if (v.call || !v.after.cycle.known || !v.after.cycle.value) return false;
+        return !v.after.cycle.value->macro.empty() || (quiet_hole_line_ != 0 && quiet_hole_line_ == v.block.line);
     }
+    // quiet_hole_line_ is a note for quiet_on_repeat_of, not state: what the rule reports is the same without it.
+    bool same_as(const InvalidArgumentValue&) const { return true; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
+        quiet_hole_line_ = 0;
         std::optional<Plane> plane;
         if (v.before.plane.known) plane = v.before.plane.value;
         // Macro calls: the arguments written on the invoking line.
@@ -160,7 +166,21 @@ public:
             return {value, w->range};
         };
         check_values(ctx, *cycle, lookup, plane, v.block.range);
+        if (plane) {
+            // Whether the checks read the word of a plane axis (by the argument's name or an alias).
+            const PlaneAxes pa = plane_axes(*plane);
+            const auto names_plane_axis = [&](const ArgSpec& a) {
+                const auto axis = [&](const std::string& n) {
+                    return n.size() == 1 && (n[0] == pa.first || n[0] == pa.second);
+                };
+                return axis(a.name) || std::any_of(a.aliases.begin(), a.aliases.end(), axis);
+            };
+            if (!macro::reads_value_of(*cycle, names_plane_axis)) quiet_hole_line_ = v.block.line;
+        }
     }
+
+private:
+    uint32_t quiet_hole_line_ = 0;  // the line of the last hole whose repeats are quiet (0: none)
 };
 
 }  // namespace

@@ -870,6 +870,37 @@ TEST_CASE("engine: a block that repeats the one before moved in the plane gives 
         CHECK_MESSAGE(seen[id] > 0, id);
 }
 
+TEST_CASE("engine: fixed-cycle holes are told from their text only in a plane whose axis words no check reads") {
+    // OSP103 checks the values of a fixed cycle's addresses; in G17 none of
+    // those it checks is X or Y, so the holes' repeats are told from their
+    // text. A shop that wants G83's Z non-zero makes it check Z, which in
+    // G18 is an axis of the plane: each hole is then read, and the one at
+    // Z0 reported.
+    const auto program = [](const std::string& plane, const std::string& hole) {
+        std::string text = "O1000\nG15 H1\nT1 M6\nG0 G90 X0 Y0\nG56 Z50. H1\nS600 M3\n" + plane +
+                           "\nG83 X0 Y0 Z-10. R2. Q2. F100\n";
+        for (int i = 1; i <= 12; ++i) {
+            std::string l = hole;
+            l.replace(l.find("%"), 1, std::to_string(i * 3 - 21) + ".");
+            text += l + "\n";
+        }
+        return text + "G80\nG17\nG0 Z50.\nM30\n";
+    };
+    const Config shop = parse_config("[cycle.G83.arg.Z]\nsign = \"non-zero\"\n", "osplint.toml");
+    EngineStats g17, g18, g18_shop;
+    compare_checks("g17.min", program("G17", "X% Y10."), shop, {}, &g17);
+    CHECK(g17.text_repeats == 11);
+    compare_checks("g18.min", program("G18", "X10. Z%"), Config{}, {}, &g18);
+    CHECK(g18.text_repeats == 11);
+    compare_checks("g18.min", program("G18", "X10. Z%"), shop, {}, &g18_shop);
+    CHECK(g18_shop.repeats > 0);
+    CHECK(g18_shop.text_repeats == 0);
+    int reported = 0;
+    for (const auto& d : check_text("g18.min", program("G18", "X10. Z%"), shop, {}).diagnostics)
+        if (d.rule == "OSP103") ++reported;
+    CHECK(reported == 1);
+}
+
 TEST_CASE("engine: with travel limits, repeats near a limit give the reference's result") {
     // OSP301 tells a repeat from its values (the envelope's offsets from its
     // position words): runs of calls whose slot or counterbore reaches past
