@@ -383,6 +383,9 @@ public:
     // Throws ConfigError(origin, line, key, message) on a bad entry; on error
     // the catalog is left unchanged.
     void merge(const toml::table& macros_table, const std::string& origin);
+    // The same for a `[cycle]` table: each `[cycle.GNN]` adds a fixed cycle,
+    // or patches the existing one (`replace = true` redefines it).
+    void merge_cycles(const toml::table& cycles_table, const std::string& origin);
 
     // Registers a G/M-code macro ("G114" -> "OG84L"); an empty macro name
     // removes the registration. Codes are normalised ("g0114" -> "G114");

@@ -716,29 +716,14 @@ Catalog Catalog::from_toml_text(std::string_view text, std::string origin) {
     if (const toml::table* ct = r.table("common")) read_common(*ct, origin, cat.common_);
     if (const toml::table* m = r.table("macro")) cat.merge(*m, origin);
     if (const toml::table* c = r.table("cycle")) {
+        // Each cycle of the shipped catalog is new: one named twice is a mistake.
         Reader cr(*c, origin, "cycle");
         for (const auto& [key, node] : in_source_order(*c)) {
-            const toml::table* t = cr.table(key);
-            std::string name = upper(key);
-            int code = 0;
-            std::string norm = normalize_code(name);
-            if (norm.empty() || norm[0] != 'G') cr.fail(node, key, "a fixed cycle is named by its G code, e.g. G81");
-            code = std::stoi(norm.substr(1));
-            CycleSpec spec;
-            spec.kind = SpecKind::FixedCycle;
-            spec.name = norm;
-            spec.gcode = code;
-            spec.required_scope = RequiredScope::CycleStart;
-            Reader one(*t, origin, cr.key_path(key));
-            apply_spec(one, spec);
-            one.done();
-            spec.origin = origin;
-            spec.index_args();
-            validate_spec(spec, origin, line_of(*node), cr.key_path(key));
-            if (cat.find_cycle(code)) cr.fail(node, key, "duplicate fixed cycle");
-            cat.cycles_.push_back(std::move(spec));
+            const std::string norm = normalize_code(upper(key));
+            if (!norm.empty() && norm[0] == 'G' && cat.find_cycle(std::stoi(norm.substr(1))))
+                cr.fail(node, key, "duplicate fixed cycle");
         }
-        cr.done();
+        cat.merge_cycles(*c, origin);
     }
     r.done();
     for (const auto* list : {&cat.macros_, &cat.cycles_}) {
@@ -751,6 +736,47 @@ Catalog Catalog::from_toml_text(std::string_view text, std::string origin) {
         }
     }
     return cat;
+}
+
+void Catalog::merge_cycles(const toml::table& cycles_table, const std::string& origin) {
+    // Stage every change first so that a bad entry leaves the catalog unchanged.
+    struct Staged {
+        CycleSpec spec;
+        CycleSpec* existing;  // nullptr: a new cycle
+    };
+    std::vector<Staged> staged;
+    Reader cr(cycles_table, origin, "cycle");
+    for (const auto& [key, node] : in_source_order(cycles_table)) {
+        const toml::table* t = cr.table(key);
+        const std::string norm = normalize_code(upper(key));
+        if (norm.empty() || norm[0] != 'G') cr.fail(node, key, "a fixed cycle is named by its G code, e.g. G81");
+        const int code = std::stoi(norm.substr(1));
+        for (const auto& s : staged)
+            if (s.spec.gcode == code) cr.fail(node, key, "the fixed cycle is defined twice");
+        CycleSpec* existing = nullptr;
+        for (auto& c : cycles_)
+            if (c.gcode == code) existing = &c;
+        Reader one(*t, origin, cr.key_path(key));
+        Staged st{CycleSpec{}, existing};
+        // A patch starts from the current definition; a replacement from scratch.
+        const bool replace = one.boolean("replace").value_or(false);
+        if (existing && !replace) st.spec = *existing;
+        st.spec.kind = SpecKind::FixedCycle;
+        st.spec.name = norm;
+        st.spec.gcode = code;
+        st.spec.required_scope = RequiredScope::CycleStart;
+        apply_spec(one, st.spec);
+        one.done();
+        st.spec.origin = origin;
+        st.spec.index_args();
+        validate_spec(st.spec, origin, line_of(*node), cr.key_path(key));
+        staged.push_back(std::move(st));
+    }
+    cr.done();
+    for (auto& s : staged) {
+        if (s.existing) *s.existing = std::move(s.spec);
+        else cycles_.push_back(std::move(s.spec));
+    }
 }
 
 void Catalog::merge(const toml::table& macros_table, const std::string& origin) {

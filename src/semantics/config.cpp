@@ -206,7 +206,7 @@ Config read_chain(std::string_view text, const std::string& origin, const RuleId
                           std::string(e.description()));
     }
     check_keys(origin, root, "",
-               {"extend", "exclude", "per-path", "machine", "rules", "macros", "codes", "macro", "analysis"});
+               {"extend", "exclude", "per-path", "machine", "rules", "macros", "codes", "macro", "cycle", "analysis"});
     Config c;
     if (const auto* n = root.get("extend")) {
         const auto written = expect_string(origin, *n, "extend");
@@ -237,6 +237,7 @@ Config read_chain(std::string_view text, const std::string& origin, const RuleId
         for (auto& p : read_patterns(origin, *n, "exclude")) c.exclude.push_back(std::move(p));
     if (const auto* n = root.get("machine")) read_machine(c, origin, expect_table(origin, *n, "machine"));
     if (const auto* n = root.get("macro")) c.catalog.merge(expect_table(origin, *n, "macro"), origin);
+    if (const auto* n = root.get("cycle")) c.catalog.merge_cycles(expect_table(origin, *n, "cycle"), origin);
     if (const auto* n = root.get("macros"))
         fail(origin, *n, "macros",
              "[macros.gcode] is now [codes]: write each registration there, e.g. G113 = \"OLAPX\"");

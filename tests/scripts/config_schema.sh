@@ -121,6 +121,15 @@ omitted = "none"
 omitted = "required"
 role = "pitch"
 ''',
+    "changing a reading of a shipped fixed cycle (OSP103's note)": '''
+[cycle.G83.arg.Q]
+sign = "any"
+[cycle.G81.arg.Z]
+omitted = "none"
+[cycle.G85]
+replace = true
+title = "a shop's own boring cycle"
+''',
     "registrations": '''
 [codes]
 G113 = "OLAPX"
@@ -229,7 +238,7 @@ bad = [
     ("a note without text", "[macro.OSHOP]\nforms = [\"CALL\"]\nnotes = [ { source = \"p. 1\" } ]\n", "macro.OSHOP.notes[0].text"),
     ("a reading without id", "[macro.OSHOP]\nforms = [\"CALL\"]\nreadings = [ { reading = \"r\" } ]\n", "macro.OSHOP.readings[0].id"),
     ("an unknown key in a reading", "[macro.OSHOP]\nforms = [\"CALL\"]\nreadings = [ { id = \"a\", reading = \"r\", closed = true } ]\n", "macro.OSHOP.readings[0].closed"),
-    ("a fixed cycle in the configuration", "[cycle.G81.arg.Z]\nomitted = \"none\"\n", "cycle"),
+    ("a fixed cycle named by an M code", "[cycle.M81]\ntitle = \"t\"\n", "cycle.M81"),
 ]
 for name, text, key in bad:
     errors = schema_errors("osplint", text)
@@ -243,7 +252,6 @@ catalog_bad = [
     ("an argument without role", "[macro.OSHOP]\nforms = [\"CALL\"]\narg = { PZ = { omitted = \"none\" } }\n"),
     ("a macro without forms", "[macro.OSHOP]\ntitle = \"t\"\n"),
     ("omitted = \"default\" without default", "[cycle.G81.arg]\nZ = { omitted = \"default\", role = \"cycle\" }\n"),
-    ("replace on a fixed cycle", "[cycle.G81]\nreplace = true\n"),
     ("a fixed cycle named by an M code", "[cycle.M81]\ntitle = \"t\"\n"),
     ("schema 1", "schema = 1\n"),
     ("an unknown key in a plane table", "[plane_table.x]\nrows = []\n"),

@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include "api/check.h"
 #include "api/config.h"
 #include "support/errors.h"
 
@@ -334,4 +335,35 @@ TEST_CASE("extend: a missing file and a cycle are errors naming both files") {
     CHECK_THROWS_WITH_AS(load_config(self), doctest::Contains("extend each other"), ConfigError);
     (void)a;
     (void)d;
+}
+
+TEST_CASE("config: a [cycle] table patches a shipped fixed cycle, as OSP103's note says") {
+    // G83's Q (the peck) must be positive in the reading taken; the finding's
+    // note says which table changes that reading, and that table does.
+    const std::string program = "O1\nG0 G90 X0 Y0 Z50.\nG83 X0 Y0 Z-10. R2. Q0 F100\nG80\nM30\n";
+    const auto findings = [&](const Config& config) {
+        std::vector<Diagnostic> out;
+        for (auto& d : check_text("p.min", program, config, {}).diagnostics)
+            if (d.rule == "OSP103") out.push_back(d);
+        return out;
+    };
+    const std::vector<Diagnostic> shipped = findings(Config{});
+    REQUIRE(shipped.size() == 1);
+    std::string notes;
+    for (const auto& n : shipped[0].notes) notes += n.message;
+    const std::string table = "[cycle.G83.arg.Q] sign = \"any\"";
+    CHECK(notes.find(table) != std::string::npos);
+    CHECK(findings(parse_config("[cycle.G83.arg.Q]\nsign = \"any\"\n", "shop/osplint.toml")).empty());
+    // The patch leaves the rest of the cycle as shipped.
+    const Config patched = parse_config("[cycle.g83.arg.Q]\nsign = \"any\"\n", "shop/osplint.toml");
+    const CycleSpec* g83 = patched.catalog.find_cycle(83);
+    REQUIRE(g83);
+    CHECK(g83->arg("Q")->sign == ArgSign::Any);
+    CHECK(g83->arg("Z") != nullptr);
+    CHECK(g83->arg("J")->sign == ArgSign::Positive);
+    CHECK(Config{}.catalog.find_cycle(83)->arg("Q")->sign == ArgSign::Positive);
+    // Bad entries stop the run with the key, and leave nothing half-applied.
+    CHECK(error_of("[cycle.X83]\nnotes = []\n").key() == "cycle.X83");
+    CHECK(error_of("[cycle.G83.arg.Q]\nsign = \"sometimes\"\n").key() == "cycle.G83.arg.Q.sign");
+    CHECK(error_of("[cycle.G83]\nbogus = 1\n").key() == "cycle.G83.bogus");
 }
