@@ -621,6 +621,15 @@ void read_common(const toml::table& t, const std::string& file, std::vector<Comm
 // Merging a [macro] table
 
 // A macro of a [macro] table, read and validated but not applied yet.
+// The last element of `list` that `pick` picks (nullptr: none).
+template <class List, class Pick>
+auto* find_spec(List& list, Pick&& pick) {
+    decltype(&*list.begin()) found = nullptr;
+    for (auto& e : list)
+        if (pick(e)) found = &e;
+    return found;
+}
+
 struct StagedMacro {
     MacroSpec spec;
     MacroSpec* existing;  // nullptr: a new macro
@@ -639,11 +648,9 @@ std::vector<StagedMacro> stage_macros(const toml::table& macros_table, const std
         std::string name = upper(key);
         if (!is_name(name) || name[0] != 'O')
             r.fail(node, key, "a macro is named by its program name, e.g. OZAGR");
-        for (const auto& s : staged)
-            if (s.spec.name == name) r.fail(node, key, "the macro is defined twice");
-        MacroSpec* existing = nullptr;
-        for (auto& m : macros)
-            if (m.name == name) existing = &m;
+        if (find_spec(staged, [&](const StagedMacro& s) { return s.spec.name == name; }))
+            r.fail(node, key, "the macro is defined twice");
+        MacroSpec* existing = find_spec(macros, [&](const MacroSpec& m) { return m.name == name; });
         Reader one(*t, origin, r.key_path(key));
         bool replace = one.boolean("replace").value_or(false);
         StagedMacro st{MacroSpec{}, existing, line_of(*node), t->contains("codes")};
@@ -751,11 +758,9 @@ void Catalog::merge_cycles(const toml::table& cycles_table, const std::string& o
         const std::string norm = normalize_code(upper(key));
         if (norm.empty() || norm[0] != 'G') cr.fail(node, key, "a fixed cycle is named by its G code, e.g. G81");
         const int code = std::stoi(norm.substr(1));
-        for (const auto& s : staged)
-            if (s.spec.gcode == code) cr.fail(node, key, "the fixed cycle is defined twice");
-        CycleSpec* existing = nullptr;
-        for (auto& c : cycles_)
-            if (c.gcode == code) existing = &c;
+        if (find_spec(staged, [&](const auto& s) { return s.spec.gcode == code; }))
+            cr.fail(node, key, "the fixed cycle is defined twice");
+        CycleSpec* existing = find_spec(cycles_, [&](const CycleSpec& c) { return c.gcode == code; });
         Reader one(*t, origin, cr.key_path(key));
         Staged st{CycleSpec{}, existing};
         // A patch starts from the current definition; a replacement from scratch.
