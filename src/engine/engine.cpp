@@ -995,7 +995,7 @@ bool Walk::repeats_text(std::string_view t, std::array<double, 2>* values) const
     for (uint8_t i = 0;; ++i) {
         const uint32_t cut = i < repeat_.count ? repeat_.cuts[i] : static_cast<uint32_t>(k.size());
         const uint32_t len = cut - at;
-        if (t.size() - from < len || t.compare(from, len, k, at, len) != 0) return false;
+        if (t.size() - from < len || same_prefix(t.data() + from, k.data() + at, len) != len) return false;
         from += len;
         if (i == repeat_.count) return from == t.size();
         at = cut;

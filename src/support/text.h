@@ -2,9 +2,15 @@
 // of program files by extension.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <string>
 #include <string_view>
 #include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace osplint {
 
@@ -22,6 +28,40 @@ inline bool iequals(std::string_view a, std::string_view b) {  // inline: the ca
     for (size_t i = 0; i < a.size(); ++i)
         if (ascii_upper(a[i]) != ascii_upper(b[i])) return false;
     return true;
+}
+// How many of the first n bytes at a and b are the same before the first that
+// differs (n when all are): 16 at a time, for the lines a posted program
+// repeats but for a value or two.
+inline size_t same_prefix(const char* a, const char* b, size_t n) {
+    size_t i = 0;
+#if defined(__SSE2__)
+    const auto first_difference = [&](size_t at) {
+        const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a + at));
+        const __m128i y = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + at));
+        return ~static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(x, y))) & 0xffffu;
+    };
+    if (n >= 16) {
+        for (; i + 16 <= n; i += 16)
+            if (const unsigned d = first_difference(i)) return i + static_cast<size_t>(__builtin_ctz(d));
+        if (i == n) return n;
+        // The last bytes: the 16 that end the range, those before i known the same.
+        if (const unsigned d = first_difference(n - 16)) return n - 16 + static_cast<size_t>(__builtin_ctz(d));
+        return n;
+    }
+    if (n >= 8) {  // two words of 8 (little-endian: the first differing byte is the lowest)
+        const auto first_in_word = [&](size_t at) {
+            uint64_t x, y;
+            std::memcpy(&x, a + at, 8);
+            std::memcpy(&y, b + at, 8);
+            return x == y ? 8u : static_cast<unsigned>(__builtin_ctzll(x ^ y)) / 8;
+        };
+        if (const unsigned k = first_in_word(0); k < 8) return k;
+        if (const unsigned k = first_in_word(n - 8); k < 8) return n - 8 + k;
+        return n;
+    }
+#endif
+    while (i < n && a[i] == b[i]) ++i;
+    return i;
 }
 // Whether `hay` holds `needle`, ignoring ASCII case.
 bool contains_ci(std::string_view hay, std::string_view needle);

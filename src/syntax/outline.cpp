@@ -11,6 +11,7 @@
 #include "syntax/frontend_fast.h"
 #include "syntax/frontend_fast_lexer.h"
 #include "support/io.h"
+#include "support/text.h"
 
 namespace osplint {
 namespace {
@@ -381,22 +382,9 @@ bool outline_passes_over(FastLineParser& parser, const LineRef& line, std::strin
 namespace {
 // The first offset from i in a and j in b where they differ (or one ends), as (i, j).
 void skip_same(std::string_view a, size_t& i, std::string_view b, size_t& j) {
-#if defined(__SSE2__)
-    while (i + 16 <= a.size() && j + 16 <= b.size()) {
-        const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a.data() + i));
-        const __m128i y = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b.data() + j));
-        const unsigned diff = ~static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(x, y))) & 0xffffu;
-        if (diff) {
-            const unsigned k = static_cast<unsigned>(__builtin_ctz(diff));
-            i += k;
-            j += k;
-            return;
-        }
-        i += 16;
-        j += 16;
-    }
-#endif
-    while (i < a.size() && j < b.size() && a[i] == b[j]) ++i, ++j;
+    const size_t k = same_prefix(a.data() + i, b.data() + j, std::min(a.size() - i, b.size() - j));
+    i += k;
+    j += k;
 }
 }  // namespace
 

@@ -2,6 +2,9 @@
 // distance behind the "did you mean" hints.
 #include <doctest/doctest.h>
 
+#include <random>
+#include <string>
+
 #include "support/glob.h"
 #include "support/text.h"
 
@@ -61,4 +64,26 @@ TEST_CASE("edit distance and the nearest candidate") {
     CHECK(closest_match("chek", {"check", "rules", "explain", "config", "trace", "lsp"}) == "check");
     CHECK(closest_match("formt", {"format", "fail-on", "fold"}) == "format");
     CHECK(closest_match("zzzzzz", {"check", "rules"}).empty());
+}
+
+TEST_CASE("same_prefix: where two byte ranges first differ") {
+    CHECK(same_prefix("", "", 0) == 0);
+    CHECK(same_prefix("abc", "abd", 3) == 2);
+    CHECK(same_prefix("CALL OZAGR PX=", "CALL OZAGR PX=", 14) == 14);
+    CHECK(same_prefix("CALL OZAGR PX=1", "CALL OZAGR PY=1", 15) == 12);
+    // Every length around the 8- and 16-byte steps, a difference at every place.
+    std::mt19937 random(7);
+    for (size_t n = 0; n <= 40; ++n) {
+        std::string a(n, ' ');
+        for (char& c : a) c = static_cast<char>('A' + random() % 26);
+        CHECK(same_prefix(a.data(), a.data(), n) == n);
+        for (size_t at = 0; at < n; ++at) {
+            std::string b = a;
+            b[at] = static_cast<char>(b[at] ^ (1 + random() % 0x7f));
+            // A second difference after the first changes nothing.
+            if (at + 1 < n && random() % 2) b[n - 1] = static_cast<char>(b[n - 1] ^ 0x20);
+            CHECK(same_prefix(a.data(), b.data(), n) == at);
+            CHECK(same_prefix(b.data(), a.data(), n) == at);
+        }
+    }
 }
