@@ -434,16 +434,30 @@ std::string_view Catalog::builtin_meaning(std::string_view code) {
 void Catalog::register_code(std::string code, std::string macro) {
     std::string norm = normalize_code(code);
     if (norm.empty()) throw std::invalid_argument("not a G or M code: " + code);
-    if (macro.empty()) {
-        codes_.erase(norm);
-        return;
+    if (macro.empty()) codes_.erase(norm);
+    else codes_[norm] = upper(macro);
+    index_codes();
+}
+
+void Catalog::index_codes() {
+    code_keys_.clear();
+    for (const auto& [key, name] : codes_) {
+        int number = 0;
+        const auto [end, ec] = std::from_chars(key.data() + 1, key.data() + key.size(), number);
+        if (ec == std::errc() && end == key.data() + key.size()) code_keys_.emplace_back(key[0], number);
     }
-    codes_[norm] = upper(macro);
 }
 
 const MacroSpec* Catalog::find_by_code(std::string_view code) const {
     auto it = codes_.find(normalize_code(code));
     return it == codes_.end() ? nullptr : find(it->second);
+}
+
+const MacroSpec* Catalog::find_by_code(char letter, int number) const {
+    letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter)));
+    for (const auto& [l, n] : code_keys_)
+        if (l == letter && n == number) return find_by_code(std::string(1, letter) + std::to_string(number));
+    return nullptr;
 }
 
 void Catalog::index_macros() {

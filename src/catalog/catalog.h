@@ -397,6 +397,9 @@ public:
     // code is free for a macro. Such a code cannot be registered.
     static std::string_view builtin_meaning(std::string_view code);
     const MacroSpec* find_by_code(std::string_view code) const;
+    // The same for the code `letter` `number` ('G', 114) of a block's word:
+    // without building the code's text when none such is registered.
+    const MacroSpec* find_by_code(char letter, int number) const;
     const std::map<std::string, std::string>& registrations() const { return codes_; }
 
     // By name as written after CALL/MODIN, case-insensitive ("OZAGR").
@@ -424,6 +427,10 @@ private:
     std::deque<MacroSpec> macros_;
     std::deque<CycleSpec> cycles_;
     std::map<std::string, std::string> codes_;  // "G114" -> "OG84L"
+    // codes_'s keys as numbers ('G', 114), made again wherever codes_ changes
+    // (register_code, merge).
+    void index_codes();
+    std::vector<std::pair<char, int>> code_keys_;
     std::vector<PlaneTable> plane_tables_;
     std::vector<CommonRules> common_;
 };

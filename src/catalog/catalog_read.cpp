@@ -809,6 +809,7 @@ void Catalog::merge(const toml::table& macros_table, const std::string& origin) 
             for (const auto& c : target->codes) codes_[c] = target->name;
     }
     index_macros();
+    index_codes();
 }
 
 }  // namespace osplint

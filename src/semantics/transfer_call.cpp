@@ -94,8 +94,7 @@ void code_call(const Block& b, const Catalog& catalog, MacroCall& call) {
         if (w.address != "G" && w.address != "M") continue;
         auto c = code_of(w);
         if (!c) continue;
-        std::string code = w.address + std::to_string(*c);
-        const MacroSpec* spec = catalog.find_by_code(code);
+        const MacroSpec* spec = catalog.find_by_code(w.address[0], *c);
         if (!spec) continue;
         call.kind = w.address == "G" ? CallKind::GCode : CallKind::MCode;
         call.name = spec->name;

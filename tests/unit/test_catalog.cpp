@@ -607,6 +607,12 @@ codes = ["G113"]
     CHECK(cat.find_by_code("G113")->name == "OG84L");
     CHECK(cat.find_by_code("G114") == nullptr);
     CHECK(cat.find_by_code("M204")->name == "OC84L");
+    // A block's word finds the same by its letter and number.
+    CHECK(cat.find_by_code('G', 113) == cat.find_by_code("G113"));
+    CHECK(cat.find_by_code('g', 115) == face);
+    CHECK(cat.find_by_code('G', 114) == nullptr);
+    CHECK(cat.find_by_code('M', 204)->name == "OC84L");
+    CHECK(cat.find_by_code('M', 113) == nullptr);
 }
 
 TEST_CASE("merge: replace = true redefines a macro; register_code overrides") {
@@ -635,8 +641,13 @@ role = "pitch"
 
     cat.register_code("G114", "OLAPX");
     CHECK(cat.find_by_code("G114")->name == "OLAPX");
+    CHECK(cat.find_by_code('G', 114)->name == "OLAPX");
+    cat.register_code("g0115", "OLAPY");
+    CHECK(cat.find_by_code('G', 115)->name == "OLAPY");
     cat.register_code("g114", "");
     CHECK(cat.find_by_code("G114") == nullptr);
+    CHECK(cat.find_by_code('G', 114) == nullptr);
+    CHECK(cat.find_by_code('G', 115)->name == "OLAPY");
     CHECK_THROWS_AS(cat.register_code("X10", "OZAGR"), std::invalid_argument);
 }
 
