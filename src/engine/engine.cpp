@@ -955,6 +955,10 @@ bool Walk::repeatable(const Block& b, const MacroCall* c, const ModalState& befo
             if (w.address.size() == 1 && (w.address[0] == axes.first || w.address[0] == axes.second) &&
                 !add(w, w.address[0]))
                 return false;
+        // A block that names no position in the plane (a tool change, a
+        // spindle or coolant code) is not written line after line: it is
+        // not compared with the block after it.
+        if (spans.count == 0) return false;
     }
     return true;
 }
