@@ -6,6 +6,7 @@
 #include "semantics/transfer.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -52,14 +53,43 @@ bool is_cycle_macro(const MacroSpec& spec) {
     return spec.has_form(MacroForm::GCode) && !spec.cancel.empty();
 }
 
-// Membership in a sorted, de-duplicated code list (see `code_set`): blocks with
-// very many words stay linear.
-bool has(const std::vector<int>& sorted, int x) { return std::binary_search(sorted.begin(), sorted.end(), x); }
-std::vector<int> code_set(std::vector<int> v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-    return v;
-}
+// The G or M codes of a block, in the written order: a block writes a few,
+// kept in place (apply_block runs for every block); more go to the heap.
+class CodeList {
+public:
+    void push_back(int c) {
+        if (heap_.empty() && n_ < in_place_.size()) {
+            in_place_[n_++] = c;
+            return;
+        }
+        if (heap_.empty()) heap_.assign(in_place_.begin(), in_place_.begin() + n_);
+        heap_.push_back(c);
+    }
+    const int* begin() const { return heap_.empty() ? in_place_.data() : heap_.data(); }
+    const int* end() const { return begin() + size(); }
+    size_t size() const { return heap_.empty() ? n_ : heap_.size(); }
+    bool empty() const { return size() == 0; }
+    // The list sorted and de-duplicated, for `has`.
+    CodeList as_set() const {
+        CodeList out = *this;
+        int* first = out.heap_.empty() ? out.in_place_.data() : out.heap_.data();
+        int* last = first + out.size();
+        std::sort(first, last);
+        const size_t kept = static_cast<size_t>(std::unique(first, last) - first);
+        if (out.heap_.empty()) out.n_ = static_cast<uint8_t>(kept);
+        else out.heap_.resize(kept);
+        return out;
+    }
+
+private:
+    std::array<int, 8> in_place_{};
+    uint8_t n_ = 0;
+    std::vector<int> heap_;  // all of them, once there are more than in_place_ holds
+};
+
+// Membership in a list made by CodeList::as_set: blocks with very many words
+// stay linear.
+bool has(const CodeList& sorted, int x) { return std::binary_search(sorted.begin(), sorted.end(), x); }
 
 bool is_call_block(const Block& b) {
     return b.statement(StmtKind::Call) || b.statement(StmtKind::Modin);
@@ -95,8 +125,8 @@ namespace {
 
 // G or M codes of a block, literal or evaluated in the state before it.
 // `unknown` is set when a G/M word has a value that cannot be known.
-std::vector<int> block_codes(const Block& b, char address, const ModalState& before, bool& unknown) {
-    std::vector<int> out;
+CodeList block_codes(const Block& b, char address, const ModalState& before, bool& unknown) {
+    CodeList out;
     for (const auto& w : b.words) {
         if (w.address.size() != 1 || w.address[0] != address) continue;
         if (auto c = code_of(w)) {
@@ -202,8 +232,8 @@ struct BlockFacts {
     const MacroCall* call;
     const ModalState& before;
     bool unknown_g = false, unknown_m = false;  // a G/M word whose value cannot be known
-    std::vector<int> g, m;                      // in the written order
-    std::vector<int> gs;                        // `g` as a code_set, for membership tests
+    CodeList g, m;                              // in the written order
+    CodeList gs;                                // `g` as a set (CodeList::as_set), for `has`
     bool is_call;        // CALL or MODIN statement on the block
     bool g80;
     bool interpolation;  // G0/G1/G2/G3
@@ -216,7 +246,7 @@ struct BlockFacts {
     BlockFacts(const Block& block, const MacroCall* c, const ModalState& st) : b(block), call(c), before(st) {
         g = block_codes(b, 'G', before, unknown_g);
         m = block_codes(b, 'M', before, unknown_m);
-        gs = code_set(g);
+        gs = g.as_set();
         is_call = is_call_block(b);
         g80 = has(gs, 80);
         interpolation = has(gs, 0) || has(gs, 1) || has(gs, 2) || has(gs, 3);
