@@ -17,6 +17,8 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeat gives the same arguments.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
+    // check_block returns at once without a call.
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::documented_invocation(c);

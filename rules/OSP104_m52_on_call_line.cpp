@@ -19,6 +19,8 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same M words and arguments.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
+    // check_block returns at once without a call.
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -19,6 +19,8 @@ public:
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     // Only a macro that returns to PT under M53.
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind) const override { return spec.m53 == M53Mode::ReturnToPT; }
+    // check_block returns at once without a call.
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -44,6 +44,8 @@ public:
     bool sees_plain_calls_of(const MacroSpec&, CallKind kind) const override {
         return kind != CallKind::ModinPositioning;  // about the CALL or MODIN line
     }
+    // check_block returns at once without a call.
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

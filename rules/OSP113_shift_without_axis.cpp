@@ -25,6 +25,8 @@ public:
             if (a.role == ArgRole::Shift) return true;
         return false;
     }
+    // check_block returns at once without a call.
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

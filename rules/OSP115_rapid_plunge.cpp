@@ -37,6 +37,8 @@ public:
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
         return kind != CallKind::ModinPositioning && rapid_plunge(spec).has_value();
     }
+    // check_block returns at once without a call.
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);

@@ -22,6 +22,8 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same G words under the same cycle.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
+    // check_block returns at once unless a fixed cycle is modal before the block.
+    uint8_t block_needs() const override { return kCycleBefore; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.before);
         if (!c || c->macro.empty()) return;

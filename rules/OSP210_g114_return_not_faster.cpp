@@ -21,6 +21,8 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same FA and F under the same feed.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call runs a CALL or MODIN macro, not a G-code one
+    // check_block returns at once without a call.
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (!c || c->kind != CallKind::GCode || !c->spec || c->spec->cancel.empty() || !c->spec->tapping) return;

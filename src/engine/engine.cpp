@@ -859,6 +859,12 @@ void Walk::index_plain_rules() {
     call_rules_.clear();
     for (auto& r : rules_)
         if (r->sees_plain_calls()) call_rules_.push_back(r.get());
+    for (uint8_t has = 0; has < rules_for_.size(); ++has) {
+        rules_for_[has].clear();
+        for (auto& r : rules_)
+            if (const uint8_t needs = r->block_needs(); needs == Rule::kEveryBlock || (needs & has))
+                rules_for_[has].push_back(r.get());
+    }
     call_rules_of_.clear();
     last_call_rules_ = nullptr;
     plain_rules_.clear();
@@ -1076,7 +1082,9 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
         } else if (plain_call) {
             for (Rule* r : call_rules_of(*view.call)) r->check_block(*this, view);
         } else {
-            for (auto& r : rules_) r->check_block(*this, view);
+            const uint8_t has = (view.call ? Rule::kCall : 0) | (active_cycle(view.before) ? Rule::kCycleBefore : 0) |
+                                (active_cycle(view.after) ? Rule::kCycleAfter : 0);
+            for (Rule* r : rules_for_[has]) r->check_block(*this, view);
         }
         // The state compared once: before the rules for a repeat, after them
         // for a block that may start one (and then only when it was quiet).

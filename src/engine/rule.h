@@ -206,6 +206,20 @@ public:
     // moves, the differential tests hold the engine to a walk that shows
     // every rule every block.
     virtual bool sees_plain_calls() const { return true; }
+    // What a block must have for check_block to do anything on it: a rule
+    // whose check_block returns at once on any other block, and keeps nothing
+    // of it, says so, and the walk leaves it out of the other blocks (most
+    // blocks of a program call no macro and hold no fixed cycle). Any of the
+    // bits will do; kEveryBlock (the default): every block. As for plain
+    // moves, the differential tests hold the engine to a walk that shows
+    // every rule every block.
+    enum BlockNeed : uint8_t {
+        kEveryBlock = 0,
+        kCall = 1,         // BlockView::call is set (a macro or a subprogram)
+        kCycleBefore = 2,  // active_cycle(before): a fixed cycle is known to be modal before the block
+        kCycleAfter = 4,   // active_cycle(after): and after it
+    };
+    virtual uint8_t block_needs() const { return kEveryBlock; }
     // Of a rule that sees plain calls: whether check_block may do anything
     // on a plain call of `spec` made as `kind` (Call, Modin or
     // ModinPositioning), in any state. Asked once per macro and kind in a

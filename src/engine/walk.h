@@ -409,6 +409,8 @@ private:
     FileOutline outline_;
     std::vector<std::unique_ptr<Rule>> rules_;
     std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
+    // rules_ by what a block has (Rule::BlockNeed bits): those that may do something on it.
+    std::array<std::vector<Rule*>, 8> rules_for_;
     std::vector<Rule*> call_rules_;   // the rules that look at plain calls (Rule::sees_plain_calls)
     // Of those, the ones that look at a plain call of a macro made so
     // (Rule::sees_plain_calls_of), by macro and kind, and the last asked for.
