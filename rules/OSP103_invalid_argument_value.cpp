@@ -129,9 +129,7 @@ public:
     // none; a hole of a fixed cycle whose checks read neither of the plane's
     // axis words (check_block found so).
     bool quiet_on_repeat_of(const BlockView& v) const override {
-        if (const MacroSpec* spec = macro::shop_macro(v.call))
-            return v.call->kind == CallKind::Call && v.before.plane.known &&
-                   !macro::reads_repeat_value(*spec, v.before.plane.value);
+        if (const MacroSpec* spec = macro::shop_macro(v.call)) return macro::quiet_on_call_repeats(*spec, v);
         if (v.call || !v.after.cycle.known || !v.after.cycle.value) return false;
         return !v.after.cycle.value->macro.empty() || (quiet_hole_line_ != 0 && quiet_hole_line_ == v.block.line);
     }

@@ -87,9 +87,7 @@ public:
     // modal state they read is the same); a hole of a cycle commanded earlier
     // (or of a G-code macro cycle): its repeats command nothing either.
     bool quiet_on_repeat_of(const BlockView& v) const override {
-        if (const MacroSpec* spec = macro::shop_macro(v.call))
-            return v.call->kind == CallKind::Call && v.before.plane.known &&
-                   !macro::reads_repeat_value(*spec, v.before.plane.value);
+        if (const MacroSpec* spec = macro::shop_macro(v.call)) return macro::quiet_on_call_repeats(*spec, v);
         const ActiveCycle* c = v.call ? nullptr : active_cycle(v.after);
         return c && (!c->macro.empty() || cycle_start(*c, v.block) == CycleStart::Earlier);
     }

@@ -202,6 +202,14 @@ inline bool reads_repeat_value(const MacroSpec& spec, Plane plane) {
     return reads_value_of(spec, [&](const ArgSpec& a) { return &a == varying[0] || &a == varying[1]; });
 }
 
+// For a rule that checks the values of a macro's arguments against its
+// constraints and nothing else on a CALL: whether it is quiet on the repeats
+// of the CALL `v` it was quiet on (Rule::quiet_on_repeat_of). Only in a known
+// plane, and only when the constraints read neither argument a repeat changes.
+inline bool quiet_on_call_repeats(const MacroSpec& spec, const BlockView& v) {
+    return v.call->kind == CallKind::Call && v.before.plane.known && !reads_repeat_value(spec, v.before.plane.value);
+}
+
 // The same for a block that runs `spec`, or (nullptr) no catalog macro: then
 // of every fixed cycle, which such a block may run.
 inline bool reads_position_value(const Catalog& catalog, const MacroSpec* spec) {

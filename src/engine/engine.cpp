@@ -1120,11 +1120,10 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
                 else
                     repeat_.from_text = false;
             }
-            if (!repeat_.from_text) {
-            } else if (repeat_.kind == CallKind::Call) {
+            if (repeat_.from_text && repeat_.kind == CallKind::Call) {
                 repeat_.from_text =
                     plain_call && repeat_leaves_state(*repeat_.spec, *B_, call_transfers_, macro_ends_);
-            } else if (!repeat_keeps_state(view.block, view.call, *B_, macro_ends_)) {
+            } else if (repeat_.from_text && !repeat_keeps_state(view.block, view.call, *B_, macro_ends_)) {
                 // Or the repeat moves the tool to its values (the same spans, in the same order).
                 repeat_.sets_plane = repeat_.from_text = repeat_sets_plane(view.block, view.call, *B_);
                 repeat_.axes = spans.axis;
