@@ -36,6 +36,8 @@ public:
         last_k_.reset();
     }
 
+    // check_block returns at once unless a fixed cycle is modal after the block.
+    uint8_t block_needs() const override { return kCycleAfter; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         const ActiveCycle* c = active_cycle(v.after);

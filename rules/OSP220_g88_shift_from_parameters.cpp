@@ -20,6 +20,8 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same cycle, started before.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
+    // check_block returns at once unless a fixed cycle is modal after the block.
+    uint8_t block_needs() const override { return kCycleAfter; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->code != 88 || !c->macro.empty()) return;

@@ -89,7 +89,10 @@ private:
 
 // Membership in a list made by CodeList::as_set: blocks with very many words
 // stay linear.
-bool has(const CodeList& sorted, int x) { return std::binary_search(sorted.begin(), sorted.end(), x); }
+inline bool has(const CodeList& sorted, int x) {
+    if (sorted.size() <= 8) return std::find(sorted.begin(), sorted.end(), x) != sorted.end();
+    return std::binary_search(sorted.begin(), sorted.end(), x);
+}
 
 bool is_call_block(const Block& b) {
     return b.statement(StmtKind::Call) || b.statement(StmtKind::Modin);
