@@ -42,7 +42,6 @@ struct MacroCall {
     std::string name;                 // "OZAGR" (the macro, after resolving a G/M code)
     ByteRange name_range;             // the name after CALL/MODIN, or the G/M word
     const MacroSpec* spec = nullptr;  // nullptr: not in the catalog
-    bool defined_in_files = false;    // a program of that name exists in the checked files
     // What the user subprogram leaves behind (semantics/summary.h), when the
     // engine analysed it; nullptr: taken to leave the modes as they were.
     const SubprogramSummary* summary = nullptr;

@@ -231,7 +231,6 @@ void MacroCall::clear() {
     name.clear();
     name_range = {};
     spec = nullptr;
-    defined_in_files = false;
     summary = nullptr;
     args.clear();
     repeat = nullptr;
