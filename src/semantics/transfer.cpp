@@ -87,12 +87,29 @@ private:
     std::vector<int> heap_;  // all of them, once there are more than in_place_ holds
 };
 
-// Membership in a list made by CodeList::as_set: blocks with very many words
-// stay linear.
-inline bool has(const CodeList& sorted, int x) {
-    if (sorted.size() <= 8) return std::find(sorted.begin(), sorted.end(), x) != sorted.end();
-    return std::binary_search(sorted.begin(), sorted.end(), x);
-}
+// The G codes of a block as a set, for `has`: codes below 128 (all that
+// apply_block asks about) as bits, others in a sorted list.
+class CodeSet {
+public:
+    CodeSet() = default;
+    explicit CodeSet(const CodeList& codes) {
+        for (int c : codes) {
+            if (c >= 0 && c < 128) bits_[c >> 6] |= uint64_t{1} << (c & 63);
+            else others_.push_back(c);
+        }
+        if (!others_.empty()) others_ = others_.as_set();
+    }
+    bool has(int x) const {
+        if (x >= 0 && x < 128) return (bits_[x >> 6] >> (x & 63)) & 1u;
+        return std::find(others_.begin(), others_.end(), x) != others_.end();
+    }
+
+private:
+    std::array<uint64_t, 2> bits_{};
+    CodeList others_;
+};
+
+inline bool has(const CodeSet& set, int x) { return set.has(x); }
 
 bool is_call_block(const Block& b) {
     return b.statement(StmtKind::Call) || b.statement(StmtKind::Modin);
@@ -236,7 +253,7 @@ struct BlockFacts {
     const ModalState& before;
     bool unknown_g = false, unknown_m = false;  // a G/M word whose value cannot be known
     CodeList g, m;                              // in the written order
-    CodeList gs;                                // `g` as a set (CodeList::as_set), for `has`
+    CodeSet gs;                                 // `g` as a set, for `has`
     bool is_call;        // CALL or MODIN statement on the block
     bool g80;
     bool interpolation;  // G0/G1/G2/G3
@@ -249,7 +266,7 @@ struct BlockFacts {
     BlockFacts(const Block& block, const MacroCall* c, const ModalState& st) : b(block), call(c), before(st) {
         g = block_codes(b, 'G', before, unknown_g);
         m = block_codes(b, 'M', before, unknown_m);
-        gs = g.as_set();
+        gs = CodeSet(g);
         is_call = is_call_block(b);
         g80 = has(gs, 80);
         interpolation = has(gs, 0) || has(gs, 1) || has(gs, 2) || has(gs, 3);
