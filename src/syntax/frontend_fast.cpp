@@ -319,23 +319,6 @@ bool FastLineParser::Impl::plain_arg(uint32_t p, PlainArg& a) const {
     return true;
 }
 
-uint32_t FastLineParser::plain_value_end(std::string_view text, uint32_t p) {
-    return plain_value_end_at(text.data(), p, static_cast<uint32_t>(text.size()));
-}
-
-uint32_t FastLineParser::plain_value(std::string_view text, uint32_t p, double& value) {
-    // One pass: scan_number_at reads what literal_end would (digits, a point,
-    // digits; not a point alone), then plain_literal checks what follows.
-    const char* s = text.data();
-    const uint32_t n = static_cast<uint32_t>(text.size());
-    const bool minus = p < n && s[p] == '-';
-    const uint32_t q = p + static_cast<uint32_t>(minus || (p < n && s[p] == '+'));
-    const uint32_t end = scan_number_at(s, q, n, value);
-    if (end == q || !plain_literal(s, q, end, n)) return p;
-    if (minus) value = -value;
-    return end;
-}
-
 // Blanks and `Pname=number` items up to the end of the line.
 bool FastLineParser::Impl::plain_call_args(uint32_t p) const {
     PlainArg a;

@@ -68,9 +68,15 @@ public:
     // plain_call reads it: an optional sign, then a decimal literal of at
     // most 15 digits, then a blank or the end of the text; `p` when there is
     // no such value there.
-    static uint32_t plain_value_end(std::string_view text, uint32_t p);
+    // Inline: the walk asks it for every value of a repeated line.
+    static uint32_t plain_value_end(std::string_view text, uint32_t p) {
+        double unused;
+        return plain_value_at<false>(text, p, unused);
+    }
     // The same, and its value as parse reads it (the sign applied) in `value`.
-    static uint32_t plain_value(std::string_view text, uint32_t p, double& value);
+    static uint32_t plain_value(std::string_view text, uint32_t p, double& value) {
+        return plain_value_at<true>(text, p, value);
+    }
 
     // As parse, but a plain move of the simplest shape (last_plain) is filled
     // in part: its sequence name and, of each word, the address, the range and
@@ -137,6 +143,39 @@ public:
     uint64_t fallback_lines() const { return fallback_lines_; }
 
 private:
+    // What plain_value_end and plain_value share. With at most 15 digits the
+    // digits as an integer and the power of ten are exact doubles, so their
+    // quotient is the correctly rounded value (as the line parser computes it).
+    template <bool kValue>
+    static uint32_t plain_value_at(std::string_view text, uint32_t p, double& value) {
+        static constexpr double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
+                                            1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+        const char* s = text.data();
+        const uint32_t n = static_cast<uint32_t>(text.size());
+        const auto digit = [&](uint32_t i) { return static_cast<unsigned char>(s[i] - '0') < 10; };
+        const bool minus = p < n && s[p] == '-';
+        uint32_t e = p + static_cast<uint32_t>(minus || (p < n && s[p] == '+'));
+        uint64_t m = 0;
+        const uint32_t first = e;
+        for (; e < n && digit(e); ++e)
+            if (kValue) m = m * 10 + static_cast<uint64_t>(s[e] - '0');
+        uint32_t digits = e - first, fraction = 0;
+        if (e < n && s[e] == '.') {
+            const uint32_t f = ++e;
+            for (; e < n && digit(e); ++e)
+                if (kValue) m = m * 10 + static_cast<uint64_t>(s[e] - '0');
+            fraction = e - f;
+            digits += fraction;
+        }
+        if (digits == 0 || digits > 15) return p;
+        if (e < n && s[e] != ' ' && s[e] != '\t' && s[e] != '\f' && s[e] != '\v') return p;
+        if (kValue) {
+            value = fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m);
+            if (minus) value = -value;
+        }
+        return e;
+    }
+
     struct Impl;
     Impl* impl_;
     uint64_t fast_lines_ = 0;
