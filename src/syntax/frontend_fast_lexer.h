@@ -260,8 +260,18 @@ OSPLINT_HOT void set_char(std::string& dst, char c) {
     else dst.assign(1, c);
 }
 
-// Storage reuse: elements beyond what a block needs are parked here (moved, so
-// their strings and vectors keep their capacity) and taken back later.
+// Whether an element holds storage of its own (heap memory of a string or a
+// vector) that is worth keeping for a later line; an element that holds none
+// is cheaper to make again than to move twice.
+inline bool holds_storage(const std::string& s) { return s.capacity() > std::string().capacity(); }
+inline bool holds_storage(const Word& w) { return holds_storage(w.address) || holds_storage(w.value_text); }
+inline bool holds_storage(const ExprNode& e) {
+    return e.children.capacity() > 0 || holds_storage(e.op) || holds_storage(e.text);
+}
+
+// Storage reuse: elements beyond what a block needs are parked here when
+// they hold storage (moved, so their strings and vectors keep their
+// capacity) and taken back later.
 template <class T>
 class Recycler {
 public:
@@ -278,7 +288,7 @@ public:
     }
     void finish(std::vector<T>& v, size_t used) {
         while (v.size() > used) {
-            spare_.push_back(std::move(v.back()));
+            if (holds_storage(v.back())) spare_.push_back(std::move(v.back()));
             v.pop_back();
         }
     }
