@@ -115,8 +115,13 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
 
 // Whether [p, e), inside one line and not at its start, holds a byte
 // next_candidate would take: next_candidate without the line ends and the N
-// at a line's start, for the arguments of a call line.
+// at a line's start, for the arguments of a call line. But for a letter
+// between a P and an `=` (`PT=35.`, `PN=2`): the last letter of an argument's
+// name, which no keyword ends with; it is no N word either (a letter comes
+// before it).
 bool candidate_inside_line(const char* p, const char* e) {
+    const char* const begin = p;
+    const auto in_name = [&](const char* c) { return c > begin && c + 1 < e && (c[-1] | 0x20) == 'p' && c[1] == '='; };
     unsigned after_i = 0;
 #if defined(__SSE2__)
     const __m128i fold = _mm_set1_epi8(0x20);
@@ -128,7 +133,10 @@ bool candidate_inside_line(const char* p, const char* e) {
                                          _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(l, t), _mm_cmpeq_epi8(l, w)),
                                                       _mm_cmpeq_epi8(l, n)));
         const unsigned im = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, i)));
-        if (_mm_movemask_epi8(any)) return true;
+        if (unsigned m = static_cast<unsigned>(_mm_movemask_epi8(any))) {
+            for (; m; m &= m - 1)
+                if (!in_name(at + __builtin_ctz(m))) return true;
+        }
         if (im | after_i) {
             const unsigned fm = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(l, f)));
             if (fm & ((im << 1) | after_i)) return true;
@@ -136,7 +144,6 @@ bool candidate_inside_line(const char* p, const char* e) {
         after_i = (im >> 15) & 1u;
         return false;
     };
-    const char* const begin = p;
     for (; e - p >= 16; p += 16)
         if (chunk(p)) return true;
     // The last bytes of a range of 16 or more: the 16 that end it, read
@@ -148,7 +155,8 @@ bool candidate_inside_line(const char* p, const char* e) {
 #endif
     for (; p < e; ++p) {
         const char l = static_cast<char>(*p | 0x20);
-        if (l == 'o' || l == 'e' || l == 't' || l == 'w' || l == 'n' || (l == 'f' && after_i)) return true;
+        if (((l == 'o' || l == 'e' || l == 't' || l == 'w' || l == 'n') && !in_name(p)) || (l == 'f' && after_i))
+            return true;
         after_i = l == 'i' ? 1u : 0u;
     }
     return false;

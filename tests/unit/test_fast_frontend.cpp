@@ -350,8 +350,25 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
     CHECK_FALSE(passes("CALL O100 PX=VC1 RTS"));
     CHECK_FALSE(passes("CALL O100 PX=VC1 PY=VC2 IF"));       // I and F across 16 bytes of the arguments
     CHECK(passes("CALL O100 PX=VC1 PY=VC2 IXF"));
+    // The last letter of an argument's name (a P before it, an `=` after it)
+    // is no keyword's and no N word: passed over, whatever the values are.
+    CHECK(passes("CALL O100 PT=VC1 PN=VC2 PO=[VC3] PE=1 pw=2"));
+    CHECK_FALSE(passes("CALL O100 PX=VC1 N=60"));             // an N word
+    CHECK_FALSE(passes("CALL O100 PX=VC1 XT=1"));             // not after a P
+    CHECK_FALSE(passes("CALL O100 PX=VC1 PT =1"));            // not before the `=`
+    CHECK_FALSE(passes("CALL O100 PX=VC1 PTE=1"));            // a T inside the name
     // The look at the arguments takes the bytes the outline's scan takes
-    // (may_hold_outline_item), on random arguments of every length.
+    // (may_hold_outline_item), but for the last letter of a `P?=` name, on
+    // random arguments of every length.
+    const auto holds_item = [](std::string_view args) {
+        for (size_t k = 0; k < args.size(); ++k) {
+            const char l = static_cast<char>(args[k] | 0x20);
+            if (l == 'f' && k > 0 && (args[k - 1] | 0x20) == 'i') return true;
+            if (l != 'o' && l != 'e' && l != 't' && l != 'w' && l != 'n') continue;
+            if (!(k > 0 && k + 1 < args.size() && (args[k - 1] | 0x20) == 'p' && args[k + 1] == '=')) return true;
+        }
+        return false;
+    };
     std::mt19937 rng(20261205);
     const std::string alphabet = "PXYZQRSTUVWOEINFD=.-+ 0123456789[]()*";
     for (int i = 0; i < 20000; ++i) {
@@ -364,7 +381,11 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
         const uint32_t head = p.call_head_end(LineRef{text, "\n", 1, 0});
         REQUIRE(head >= 9);
         REQUIRE(head == FastLineParser().call_head_end(LineRef{text, "\n", 1, 0}));
-        const bool quiet = !may_hold_outline_item(text.data() + head, text.data() + text.size(), false);
+        const std::string_view rest(text.data() + head, text.size() - head);
+        const bool quiet = !holds_item(rest);
+        const bool scan = may_hold_outline_item(rest.data(), rest.data() + rest.size(), false);
+        REQUIRE_MESSAGE((quiet || scan), text);  // only bytes of a name are left out
+        REQUIRE_MESSAGE((!quiet || !scan || rest.find('=') != std::string_view::npos), text);
         REQUIRE_MESSAGE(passes(text) == (quiet || plain_args), text);
     }
     CHECK_FALSE(passes("N10 CALL O100 PX=1"));
