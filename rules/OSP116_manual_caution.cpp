@@ -95,6 +95,8 @@ public:
     bool sees_plain_calls_of(const MacroSpec& spec, CallKind kind) const override {
         return !spec.cautions.empty() && kind != CallKind::ModinPositioning;
     }
+    // A macro call, or a fixed cycle modal after the block.
+    uint8_t block_needs() const override { return kCall | kCycleAfter; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (v.call && v.call->spec && v.call->spec->kind == SpecKind::Macro) {
             // Where the macro is commanded; not each positioning block of an open MODIN.

@@ -37,6 +37,8 @@ public:
     const RuleMeta& meta() const override { return kMeta; }
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same arguments given, and feed and speed commanded or not as before.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
+    // A macro call, or a fixed cycle modal after the block.
+    uint8_t block_needs() const override { return kCall | kCycleAfter; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* call = v.call;
         if (call && call->spec && call->spec->kind == SpecKind::Macro) {

@@ -20,6 +20,7 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same spindle state under the same cycle.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // no fixed cycle is modal on a plain call line
+    uint8_t block_needs() const override { return kCycleAfter; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const ActiveCycle* c = active_cycle(v.after);
         if (!c || c->macro.empty() || !v.after.spindle.is(4) || v.block.has_code("G", 80)) return;

@@ -141,6 +141,7 @@ public:
         return quiet_.holds_repeat(*spec, *v.call, v.before.plane.value, macro::repeat_args(*spec, v.before.plane.value));
     }
     void begin_program(RuleContext&, const ProgramView&) override { reported_.clear(); }
+    uint8_t block_needs() const override { return kCall; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         const MacroSpec* spec = macro::shop_macro(c);
