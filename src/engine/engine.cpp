@@ -208,8 +208,10 @@ void Walk::walk_blocks() {
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
         const bool move = may_be_move();
-        if (move && rules_idle() && skim_run(kRunLines, flow_.end())) continue;
-        if (quiet_run(kRunLines, flow_.end(), move)) continue;
+        if (!may_repeat()) {
+            if (move && rules_idle() && skim_run(kRunLines, flow_.end())) continue;
+            if (quiet_run(kRunLines, flow_.end(), move)) continue;
+        }
         const Next next = read_for_rules(b, line, move);
         if (next == Next::End) break;
         if (next == Next::Checked) continue;
@@ -712,16 +714,26 @@ bool Walk::may_be_move() const {
 }
 
 Walk::Next Walk::read_for_rules(Block& b, LineRef& line, bool move) {
+    if (!fetch(line)) return Next::End;
+    if (repeat_line(line)) return Next::Checked;
     if (!move || !rules_take_values()) {
-        if (!fetch(line)) return Next::End;
-        if (repeat_line(line)) return Next::Checked;
         parse(b, line, moves_with_rules() && plain_may_apply());
         return Next::Block;
     }
-    if (!fetch(line)) return Next::End;
-    if (repeat_line(line) || skim_checked(line)) return Next::Checked;
+    if (skim_checked(line)) return Next::Checked;
     parse(b, line, plain_may_apply());
     return Next::Block;
+}
+
+// Whether the next line starts as the block the rules saw last did, up to
+// the value of its first position word, while that block may be repeated
+// from the text (repeat_line): the walk reads it at once then, rather than
+// first trying it as the start of a run of plain moves.
+bool Walk::may_repeat() const {
+    if (!repeat_.armed || !repeat_.from_text || repeat_.transfers != stats_.transfers) return false;
+    const std::string_view text = main_.buffered();
+    const size_t head = repeat_.count ? repeat_.cuts[0] : repeat_.text.size();
+    return text.size() >= head && same_prefix(text.data(), repeat_.text.data(), head) == head;
 }
 
 // Whether the walk with the rules may read the next plain move from its

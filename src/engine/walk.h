@@ -314,6 +314,7 @@ private:
     // program's call lines then skip the plain-move shortcuts, which would
     // each fail on them (a cost of time only).
     bool may_be_move() const;
+    bool may_repeat() const;
     uint32_t skim_run(uint32_t max_lines, uint64_t start_limit,
                       FastLineParser::IntDigits int_digits = {FastLineParser::kAnyDigits, FastLineParser::kAnyDigits,
                                                               FastLineParser::kAnyDigits});
