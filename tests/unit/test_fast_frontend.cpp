@@ -131,6 +131,31 @@ TEST_CASE("fast front end: common blocks take the hand-written path") {
     }
 }
 
+TEST_CASE("fast front end: a comment ends at its first `)`, and a control byte in it is the tree-sitter's to read") {
+    // Comments of every length around the 16 bytes the scan reads at a time,
+    // with a `)`, a tab, a control byte, DEL or a byte above 0x7F at every place.
+    FastLineParser p;
+    Block b;
+    for (size_t len = 0; len <= 40; ++len) {
+        for (size_t at = 0; at <= len; ++at) {
+            for (const char c : {')', '\t', '\x01', '\x1f', '\x7f', '\xe9', 'A'}) {
+                std::string body(len, 'C');
+                if (at < len) body[at] = c;
+                const std::string text = "G0 X1 (" + body + ") Y2";
+                const bool fast = p.parse(LineRef{text, "\n", 1, 0}, b);
+                Block alone;
+                parse_line_tree_sitter(LineRef{text, "\n", 1, 0}, alone);
+                CHECK_MESSAGE(b == alone, "length " << len << ", byte " << int(static_cast<unsigned char>(c)) << " at " << at
+                                                    << "\n-- tree-sitter:\n" << dump_block(alone) << "-- fast:\n"
+                                                    << dump_block(b));
+                const bool control = at < len && (c == '\x01' || c == '\x1f' || c == '\x7f');
+                if (control) CHECK_FALSE_MESSAGE(fast, text);  // not the fast path's to read
+                if (c == '\t' || c == 'A') CHECK_MESSAGE(fast, text);
+            }
+        }
+    }
+}
+
 TEST_CASE("fast front end: generated programs") {
     size_t blocks = 0, files = 0;
     for (uint32_t seed = 1; seed <= 300; ++seed) {
