@@ -57,11 +57,12 @@ public:
     bool sees_plain_moves(const Config& config) const override { return !config.travel.empty(); }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Config& config = ctx.config();
+        made_for_ = {};
         if (config.travel.empty()) return;
         // A macro call with the action-step points of the last quiet one:
         // only the positioning plane is left to look at.
         if (!v.plain_move && axis_quiet_.same(v, config.travel)) {
-            const std::optional<Envelope> plane = cycle_envelope(v, config, EnvelopeDetail::Plane);
+            const std::optional<Envelope>& plane = envelope(v, config, EnvelopeDetail::Plane);
             if (plane && travel_violations(*plane, config).empty()) return;
             report_envelope(ctx, v, config);
             return;
@@ -69,18 +70,19 @@ public:
         // So with a hole of the cycle whose points on the cycle axis are
         // those of the last quiet hole.
         if (!v.plain_move && hole_quiet_.same(v, config)) {
-            if (const std::optional<Envelope> plane = cycle_envelope(v, config, EnvelopeDetail::Plane)) {
+            if (const std::optional<Envelope>& plane = envelope(v, config, EnvelopeDetail::Plane)) {
                 if (!travel_violations(*plane, config).empty()) report_envelope(ctx, v, config);
                 return;
             }
         }
         // A plain move runs no macro and drills no hole: no envelope.
-        std::optional<Envelope> env =
-            v.plain_move ? std::nullopt : cycle_envelope(v, config, EnvelopeDetail::Values);
+        if (v.plain_move) {
+            report_positions(ctx, config, axes_past_travel(v.block.words, v.before, v.after, config));
+            return;
+        }
+        const std::optional<Envelope>& env = envelope(v, config, EnvelopeDetail::Values);
         if (!env) {
-            report_positions(ctx, config,
-                             v.plain_move ? axes_past_travel(v.block.words, v.before, v.after, config)
-                                          : positioning_violations(v, config));
+            report_positions(ctx, config, positioning_violations(v, config));
             return;
         }
         // The values decide; the text of a finding needs the envelope in full.
@@ -135,7 +137,8 @@ public:
         } else if (!hole_quiet_.same(v, config) || !word_values()) {
             return false;
         }
-        const std::optional<Envelope> env = cycle_envelope(v, config, EnvelopeDetail::Plane);
+        // The plane points and spans of a Values envelope are those of a Plane one.
+        const std::optional<Envelope>& env = envelope(v, config, EnvelopeDetail::Plane);
         if (!env) return false;
         for (size_t i = 0; i < 2; ++i) {
             Offsets& o = offsets_[i];
@@ -253,6 +256,30 @@ private:
         TravelLimit travel;
     };
     std::array<Offsets, 2> offsets_{};
+    // The envelope check_block made of the block it saw last (in the plane,
+    // or with the values), kept for repeat_values_decide, which the walk
+    // asks right after about the same block (Walk::check); check_block
+    // forgets it first thing, and the block's line, range and states must
+    // be those it was made for.
+    struct MadeFor {
+        const Block* block = nullptr;
+        uint32_t line = 0;
+        ByteRange range;
+        const ModalState* before = nullptr;
+        const ModalState* after = nullptr;
+        bool operator==(const MadeFor&) const = default;
+    };
+    MadeFor made_for_;
+    std::optional<Envelope> envelope_;
+    // The envelope of `v` to `detail`, or, for Plane, the one made for it with the values.
+    const std::optional<Envelope>& envelope(const BlockView& v, const Config& config, EnvelopeDetail detail) {
+        const MadeFor key{&v.block, v.block.line, v.block.range, &v.before, &v.after};
+        if (detail != EnvelopeDetail::Plane || !(made_for_ == key)) {
+            envelope_ = cycle_envelope(v, config, detail);
+            made_for_ = key;
+        }
+        return envelope_;
+    }
 
 public:
     bool same_as(const CycleAxisOutOfTravel&) const { return true; }
