@@ -454,7 +454,7 @@ const MacroSpec* Catalog::find_by_code(std::string_view code) const {
 }
 
 const MacroSpec* Catalog::find_by_code(char letter, int number) const {
-    letter = static_cast<char>(std::toupper(static_cast<unsigned char>(letter)));
+    letter = ascii_upper(letter);
     for (const auto& [l, n] : code_keys_)
         if (l == letter && n == number) return find_by_code(std::string(1, letter) + std::to_string(number));
     return nullptr;
