@@ -224,12 +224,14 @@ inline bool command_keyword(const char* name, uint32_t len) {
 // program repeat the previous block's shape, so the text often has the same
 // length (or is the same) and the generic assign can be skipped.
 OSPLINT_HOT void set_text(std::string& dst, const char* p, size_t n) {
-    // A length change within the capacity by the inline members (erase to
-    // shorten, push_back to lengthen): assign() is an out-of-line call.
+    // A length change within the capacity: erase to shorten, push_back to
+    // lengthen by one, resize by more (assign() would copy again).
     if (dst.size() > n) {
         dst.erase(n);
-    } else if (dst.size() < n && n <= dst.capacity() && n - dst.size() <= 4) {
-        while (dst.size() < n) dst.push_back('\0');
+    } else if (dst.size() + 1 == n && n <= dst.capacity()) {
+        dst.push_back('\0');
+    } else if (dst.size() < n && n <= dst.capacity()) {
+        dst.resize(n);  // one call for a string made again (Recycler), not a push_back per byte
     }
     if (dst.size() == n) {
         char* d = dst.data();
