@@ -307,14 +307,10 @@ bool FastLineParser::Impl::plain_arg(uint32_t p, PlainArg& a) const {
     a.value_begin = p;
     if (p < n && (s[p] == '+' || s[p] == '-')) ++p;
     a.digits_begin = p;
-    uint32_t end = p;
-    if constexpr (kValue) {
-        end = scan_number_at(s, p, n, a.value);
-        if (end == p || !plain_literal(s, p, end, n)) return false;
-    } else {
-        end = plain_value_end_at(s, a.value_begin, n);
-        if (end == a.value_begin) return false;
-    }
+    if (p < n && (s[p] == '+' || s[p] == '-')) return false;  // a second sign
+    // The digits' value, unsigned (number_value applies the sign).
+    const uint32_t end = FastLineParser::plain_value_at<kValue>(std::string_view(s, n), p, a.value);
+    if (end == p) return false;
     a.end = end;
     return true;
 }

@@ -102,39 +102,6 @@ OSPLINT_HOT uint32_t scan_number_at(const char* s, uint32_t p, uint32_t n, doubl
     return static_cast<uint32_t>(scan_number<false>(s + p, s + n, value) - s);
 }
 
-// The end of what scan_number_at accepts at s[p..n): digits, a point,
-// digits; not a point alone (p: none).
-inline uint32_t literal_end(const char* s, uint32_t p, uint32_t n) {
-    const auto digit = [&](uint32_t i) { return static_cast<unsigned char>(s[i] - '0') < 10; };
-    uint32_t end = p;
-    while (end < n && digit(end)) ++end;
-    if (end < n && s[end] == '.') {
-        const uint32_t point = end++;
-        while (end < n && digit(end)) ++end;
-        if (point == p && end == point + 1) end = p;
-    }
-    return end;
-}
-
-// Whether the literal s[p, end) of a line of n bytes may be a plain call
-// argument's value: a blank or the end after it, at most 15 digits (the
-// point aside).
-inline bool plain_literal(const char* s, uint32_t p, uint32_t end, uint32_t n) {
-    if (end < n && !(kClass[static_cast<unsigned char>(s[end])] & kBlankClass)) return false;
-    const uint32_t len = end - p;
-    return !(len > 16 || (len == 16 && !std::memchr(s + p, '.', len)));
-}
-
-// The end of such a value at s[p..n): an optional sign, then such a
-// literal (FastLineParser::plain_value_end); p when there is none.
-inline uint32_t plain_value_end_at(const char* s, uint32_t p, uint32_t n) {
-    uint32_t q = p;
-    if (q < n && (s[q] == '+' || s[q] == '-')) ++q;
-    const uint32_t end = literal_end(s, q, n);
-    if (end == q || !plain_literal(s, q, end, n)) return p;
-    return end;
-}
-
 // Keyword classes of the scanner, for a name in upper case.
 enum class Keyword : uint8_t { None, Call, Modin, Modout, Rts, Ncyl, Noex, Control, Function, Other };
 
