@@ -30,7 +30,6 @@ inline uint32_t count_bits(unsigned v) {
 struct Scan {
     const char* candidate = nullptr;  // nullptr: none in the range
     uint32_t line_ends = 0;           // line ends in [p, candidate) (or in [p, e))
-    const char* line = nullptr;       // where the candidate's line starts (after the last break before it, or p)
 };
 
 // Whether the 'N' at p, first on its line, may be an N word (`N=60`, `N+1`:
@@ -58,7 +57,6 @@ inline bool n_word_at_line_start(const char* p, const char* e) {
 // that no LF follows.
 Scan next_candidate(const char* p, const char* e, bool line_start) {
     Scan out;
-    out.line = p;
     unsigned after_break = line_start ? 1u : 0u;
     unsigned after_i = 0;
 #if defined(__SSE2__)
@@ -94,10 +92,8 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
             const unsigned k = static_cast<unsigned>(__builtin_ctz(cand));
             out.candidate = p + k;
             out.line_ends += count_bits(ends & ((1u << k) - 1u));
-            if (const unsigned before = brk & ((1u << k) - 1u)) out.line = p + (31 - __builtin_clz(before)) + 1;
             return out;
         }
-        if (brk) out.line = p + (31 - __builtin_clz(brk)) + 1;
         out.line_ends += count_bits(ends);
         after_break = (brk >> 15) & 1u;
         after_i = (im >> 15) & 1u;
@@ -110,7 +106,6 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
             out.candidate = p;
             return out;
         }
-        if (is_break(*p)) out.line = p + 1;
         if (ends_line(p, e)) ++out.line_ends;
         after_break = is_break(*p) ? 1u : 0u;
         after_i = l == 'i' ? 1u : 0u;
@@ -193,7 +188,9 @@ public:
                 pos_ = complete_;
                 continue;
             }
-            pos_ = static_cast<size_t>(scan.line - buf_.data());
+            const char* ls = scan.candidate;
+            while (ls > buf_.data() + pos_ && !is_break(ls[-1])) --ls;
+            pos_ = static_cast<size_t>(ls - buf_.data());
             if (!skip_plain_call()) take_line();
         }
         for (auto& p : out_.programs) {
