@@ -208,7 +208,7 @@ void Walk::walk_blocks() {
         if (stop_) break;
         if (shared_outline_ && main_.next_offset() >= next_checkpoint_) take_checkpoint();
         const bool move = may_be_move();
-        if (!may_repeat()) {
+        if (!repeat_.armed || !may_repeat()) {
             if (move && rules_idle() && skim_run(kRunLines, flow_.end())) continue;
             if (quiet_run(kRunLines, flow_.end(), move)) continue;
         }
@@ -715,7 +715,7 @@ bool Walk::may_be_move() const {
 
 Walk::Next Walk::read_for_rules(Block& b, LineRef& line, bool move) {
     if (!fetch(line)) return Next::End;
-    if (repeat_line(line)) return Next::Checked;
+    if (repeat_.armed && repeat_line(line)) return Next::Checked;  // the test first: no call on most lines
     if (!move || !rules_take_values()) {
         parse(b, line, moves_with_rules() && plain_may_apply());
         return Next::Block;
