@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -73,6 +74,10 @@ public:
     // After reading: kChangedMessage when the input is known to be no longer
     // what was read (a file that changed meanwhile), else "".
     virtual std::string changed() const { return {}; }
+    // Another reader of the same bytes, which another thread may read while
+    // this one is read (each keeps its own error); nullptr when the source
+    // cannot make one (a pipe being copied as it is read).
+    virtual std::unique_ptr<ByteSource> another_reader() const { return nullptr; }
 };
 
 class MemorySource final : public ByteSource {
@@ -80,6 +85,7 @@ public:
     explicit MemorySource(std::string_view text) : text_(text) {}
     int64_t read(uint64_t offset, char* buf, size_t len) override;
     std::optional<uint64_t> size() const override { return text_.size(); }
+    std::unique_ptr<ByteSource> another_reader() const override { return std::make_unique<MemorySource>(text_); }
     std::string_view text() const { return text_; }
 
 private:
@@ -120,6 +126,8 @@ public:
     std::optional<uint64_t> size() const override { return size_; }
     std::string error() const override { return error_; }
     std::string changed() const override;
+    // pread does not move the descriptor's offset: two threads may read it.
+    std::unique_ptr<ByteSource> another_reader() const override { return std::make_unique<FdSource>(*this); }
 
 private:
     int fd_;

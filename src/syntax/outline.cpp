@@ -1,7 +1,10 @@
 #include "syntax/outline.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <limits>
+#include <thread>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -12,6 +15,7 @@
 #include "syntax/frontend_fast_lexer.h"
 #include "support/io.h"
 #include "support/text.h"
+#include "support/threads.h"
 
 namespace osplint {
 namespace {
@@ -170,6 +174,20 @@ bool is_flow(StmtKind k) {
 class Outliner {
 public:
     Outliner(ByteSource& src, const OutlineOptions& options) : src_(src), options_(options) {}
+    // An outliner of the part of the input from `start` (a line start after
+    // the file's first block with content) on: its lines are numbered from 1,
+    // and its first program stands for the one the part starts in.
+    Outliner(ByteSource& src, const OutlineOptions& options, uint64_t start) : src_(src), options_(options) {
+        base_ = start;
+        first_found_ = true;
+        first_offset_ = std::numeric_limits<uint32_t>::max();
+        out_.programs.emplace_back();
+    }
+
+    // After run: whether the outline of the next part can be joined to this
+    // one (the first block with content was found and no directive waits for
+    // its target), and how many lines ended.
+    bool settled() const { return first_found_ && pending_.empty(); }
 
     FileOutline run() {
         while (true) {
@@ -419,7 +437,111 @@ bool passes_like(std::string_view passed, std::string_view text) {
     }
 }
 
+namespace {
+
+// Where part k of n of [0, size) starts: the line start at or after k/n of
+// it, nullopt when none is found within a line's longest length.
+std::optional<uint64_t> part_start(ByteSource& src, uint64_t size, uint64_t at) {
+    std::vector<char> buf(64 * 1024);
+    for (uint64_t from = at - 1; from < size && from < at + kMaxLineLength;) {
+        const int64_t r = src.read(from, buf.data(), buf.size());
+        if (r <= 0) return std::nullopt;
+        const char* p = buf.data();
+        const char* lf = static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(r)));
+        if (lf) return from + static_cast<uint64_t>(lf - p) + 1;
+        from += static_cast<uint64_t>(r);
+    }
+    return std::nullopt;
+}
+
+// Adds the outline of the part after `into`'s (`part`, its lines numbered
+// from 1) to `into`, which holds `lines` lines.
+void join_part(FileOutline& into, FileOutline&& part, uint32_t lines) {
+    const size_t last = into.programs.size() - 1;
+    for (auto& d : part.directives) {
+        d.line += lines;
+        if (d.target_line) d.target_line += lines;
+        d.program += last;
+        into.directives.push_back(std::move(d));
+    }
+    for (auto& p : part.programs) {
+        p.line += lines;
+        for (auto& f : p.flow) f.line += lines;
+    }
+    // The part's first program goes on with the last one before it.
+    ProgramOutline& going_on = into.programs.back();
+    ProgramOutline& first = part.programs.front();
+    going_on.has_rts = going_on.has_rts || first.has_rts;
+    going_on.flow.insert(going_on.flow.end(), std::make_move_iterator(first.flow.begin()),
+                         std::make_move_iterator(first.flow.end()));
+    if (!first.references.empty()) {
+        auto& refs = going_on.references;
+        const auto middle = refs.insert(refs.end(), first.references.begin(), first.references.end());
+        std::inplace_merge(refs.begin(), middle, refs.end());
+        refs.erase(std::unique(refs.begin(), refs.end()), refs.end());
+    }
+    into.programs.insert(into.programs.end(), std::make_move_iterator(part.programs.begin() + 1),
+                         std::make_move_iterator(part.programs.end()));
+    into.size = part.size;
+    into.lines += part.lines;
+    into.lines_parsed += part.lines_parsed;
+    ++into.parts;
+}
+
+// The outline of `src` read in parts at once, nullopt when it is not cut (or
+// a part cannot be joined, or one could not be read: the caller reads it whole).
+std::optional<FileOutline> outline_in_parts(ByteSource& src, const OutlineOptions& options) {
+    const std::optional<uint64_t> size = src.size();
+    if (!size || options.parts == 1 || *size > kMaxInputSize) return std::nullopt;
+    uint64_t parts = options.parts;
+    if (parts == 0) parts = std::max(1u, std::thread::hardware_concurrency());
+    parts = std::min<uint64_t>({parts, *size / std::max<uint64_t>(options.min_part_size, 1), 64});
+    if (parts < 2) return std::nullopt;
+    std::vector<uint64_t> starts{0};
+    for (uint64_t k = 1; k < parts; ++k) {
+        const std::optional<uint64_t> at = part_start(src, *size, std::max<uint64_t>(*size * k / parts, 1));
+        if (at && *at > starts.back() && *at < *size) starts.push_back(*at);
+    }
+    if (starts.size() < 2) return std::nullopt;
+    starts.push_back(*size);
+    const size_t n = starts.size() - 1;
+    // Each part reads its own reader, up to the next part's start.
+    std::vector<std::unique_ptr<ByteSource>> readers(n);
+    for (size_t k = 1; k < n; ++k)
+        if (!(readers[k] = src.another_reader())) return std::nullopt;
+    struct Part {
+        FileOutline outline;
+        bool settled = false;
+    };
+    std::vector<Part> done(n);
+    std::atomic<size_t> next{1};
+    const auto outline_part = [&](size_t k) {
+        WindowSource window(k == 0 ? src : *readers[k], 0, starts[k + 1]);
+        std::optional<Outliner> o;
+        if (k == 0) o.emplace(window, options);
+        else o.emplace(window, options, starts[k]);
+        done[k].outline = o->run();
+        done[k].settled = o->settled();
+    };
+    const auto work = [&] {
+        for (size_t k; (k = next.fetch_add(1)) < n;) outline_part(k);
+    };
+    run_on_threads(static_cast<unsigned>(n - 1), work, [&] {
+        outline_part(0);
+        work();
+    });
+    FileOutline out = std::move(done[0].outline);
+    for (size_t k = 1; k < n; ++k) {
+        if (!done[k - 1].settled || !out.ok() || !done[k].outline.ok()) return std::nullopt;
+        join_part(out, std::move(done[k].outline), out.lines);
+    }
+    return out;
+}
+
+}  // namespace
+
 FileOutline outline_file(ByteSource& src, const OutlineOptions& options) {
+    if (std::optional<FileOutline> parts = outline_in_parts(src, options)) return std::move(*parts);
     Outliner o(src, options);
     return o.run();
 }

@@ -13,6 +13,8 @@
 // one, with the same front end as the analysis (so nothing is decided twice).
 // A CALL or MODIN line (its macro's name holds an O) is passed over unparsed
 // when its arguments hold none of those bytes (outline_passes_over).
+// An input of many megabytes is cut at line starts into parts, one per core,
+// outlined at once and joined (OutlineOptions::parts).
 // The lines before the file's first block with content are parsed one by one
 // (they decide the first program's name), and so are the lines that follow a
 // directive on a comment-only line, up to the block it applies to.
@@ -84,6 +86,7 @@ struct FileOutline {
     uint64_t size = 0;         // bytes read
     uint32_t lines = 0;        // blocks (lines) in the input
     uint64_t lines_parsed = 0; // lines handed to the front end (for tests and benchmarks)
+    uint32_t parts = 1;        // parts it was read in (OutlineOptions::parts; for tests)
     std::string error;         // set when the input could not be read (or is too large)
     bool ok() const { return error.empty(); }
     // Where program `i` ends (the next one's start, or the end of the input).
@@ -95,10 +98,19 @@ struct OutlineOptions {
     // Only the program names are wanted (a sibling file's names for CALL
     // targets): flow sites and directives are left out.
     bool names_only = false;
+    // The input is cut at line starts into this many parts, outlined at once
+    // on threads of their own and joined (the outline is the same). 0: as
+    // many as the machine has cores, each of at least `min_part_size` bytes;
+    // 1: one part. Only a source that can make another reader is cut.
+    unsigned parts = 0;
+    uint64_t min_part_size = uint64_t(8) << 20;
 };
 
 // Outlines what `src` holds. Never throws for bad input; `error` is set when
-// the input cannot be read.
+// the input cannot be read. A part of the input (OutlineOptions::parts) whose
+// outline cannot be joined to the one before it (no block with content
+// before it yet, or a directive waiting for its target block) makes the
+// whole input read again in one part, as does an error in any part.
 FileOutline outline_file(ByteSource& src, const OutlineOptions& options = {});
 
 // Whether the bytes [p, e) hold one of the bytes an outlined line must hold

@@ -18,6 +18,7 @@
 
 #include <cctype>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <random>
 #include <sstream>
@@ -64,6 +65,15 @@ void compare_outlines(const std::string& name, const std::string& text) {
         OutlineOptions o;
         o.chunk_size = chunk;
         if (dump_outline(outline_file(again, o)) != got) FAIL_CHECK(name << ": outline differs with chunk " << chunk);
+    }
+    // Cut into parts outlined at once, or read whole when they cannot be joined.
+    for (unsigned parts : {2u, 3u, 7u}) {
+        MemorySource again(text);
+        OutlineOptions o;
+        o.parts = parts;
+        o.min_part_size = 1;
+        o.chunk_size = 64;
+        if (dump_outline(outline_file(again, o)) != got) FAIL_CHECK(name << ": outline differs in " << parts << " parts");
     }
 }
 
@@ -412,6 +422,92 @@ TEST_CASE("engine: generated programs") {
         const std::string text = g.program();
         compare_checks("gen" + std::to_string(seed) + (seed % 3 ? ".min" : ".ssb"), text, config);
     }
+}
+
+TEST_CASE("outline: an input cut into parts outlined at once is outlined as it is whole") {
+    const auto in_parts = [](const std::string& text, unsigned parts) {
+        MemorySource src(text);
+        OutlineOptions o;
+        o.parts = parts;
+        o.min_part_size = 1;
+        return outline_file(src, o);
+    };
+    const auto whole = [](const std::string& text) {
+        MemorySource src(text);
+        OutlineOptions o;
+        o.parts = 1;
+        return outline_file(src, o);
+    };
+    // Generated files of several programs, jumps, loops, RTS and directives,
+    // made long enough that most cuts fall inside a program.
+    size_t joined = 0, compared = 0;
+    for (uint32_t seed = 1; seed <= 120; ++seed) {
+        Generator g(seed, seed % 2 == 0);
+        std::string text;
+        for (int i = 0; i < 4; ++i) text += g.program() + "\n";
+        const std::string expected = dump_outline(whole(text));
+        for (unsigned parts : {2u, 3u, 4u, 9u}) {
+            const FileOutline o = in_parts(text, parts);
+            ++compared;
+            if (o.parts > 1) ++joined;
+            if (dump_outline(o) != expected) {
+                FAIL_CHECK("seed " << seed << ", " << parts << " parts\n-- whole:\n" << expected << "-- in parts:\n"
+                                   << dump_outline(o));
+                break;
+            }
+        }
+    }
+    CHECK(joined > compared / 2);
+
+    // What the parts join: a program that goes on across a cut keeps its
+    // flow sites, references (sorted, once each) and RTS from both sides.
+    std::string text = "O1\nG0 X0\nIF [V1 EQ 1] N20\nN20 G0 X1\n";
+    for (int i = 0; i < 40; ++i) text += "G1 X" + std::to_string(i) + ". F100\n";
+    text += "GOTO N20\nN10 G0 X2\nGOTO N10\nRTS\nO2\n(osplint: disable=OSP301)\nG0 X3\nM30\n";
+    const FileOutline two = in_parts(text, 2);
+    CHECK(two.parts == 2);
+    CHECK(dump_outline(two) == dump_outline(whole(text)));
+    REQUIRE(two.programs.size() == 2);
+    CHECK(two.programs[0].has_rts);
+    CHECK(two.programs[0].flow.size() == 3);
+    CHECK(two.programs[0].references == std::vector<std::string>{"N10", "N20"});
+    REQUIRE(two.directives.size() == 1);
+    CHECK(two.directives[0].program == 1);
+
+    // Parts that cannot be joined: the input is read whole.
+    std::string no_content;  // nothing but comments before the last cut
+    for (int i = 0; i < 60; ++i) no_content += "(NOTE " + std::to_string(i) + ")\n";
+    no_content += "O5\nG0 X1\nM30\n";
+    const FileOutline late = in_parts(no_content, 3);
+    CHECK(late.parts == 1);
+    CHECK(dump_outline(late) == dump_outline(whole(no_content)));
+    std::string waiting = "O6\nG0 X1\n";  // a directive waits for its block across the cut
+    for (int i = 0; i < 40; ++i) waiting += "(osplint: disable=OSP301)\n";
+    waiting += "G0 X2\nM30\n";
+    const FileOutline pending = in_parts(waiting, 2);
+    CHECK(pending.parts == 1);
+    CHECK(dump_outline(pending) == dump_outline(whole(waiting)));
+    const std::string cr_only = "O7\rG0 X1\rG0 X2\rM30\r";  // no LF to cut after
+    CHECK(in_parts(cr_only, 2).parts == 1);
+    CHECK(dump_outline(in_parts(cr_only, 2)) == dump_outline(whole(cr_only)));
+
+    // A file: each part reads it through a reader of its own.
+    const fs::path tmp = fs::temp_directory_path() / ("osplint-parts-" + std::to_string(::getpid()) + ".min");
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text;
+    }
+    const int fd = ::open(tmp.c_str(), O_RDONLY);
+    REQUIRE(fd >= 0);
+    FdSource file(fd, std::optional<uint64_t>(text.size()));
+    OutlineOptions o;
+    o.parts = 3;
+    o.min_part_size = 1;
+    const FileOutline from_file = outline_file(file, o);
+    CHECK(from_file.parts == 3);
+    CHECK(dump_outline(from_file) == dump_outline(whole(text)));
+    ::close(fd);
+    fs::remove(tmp);
 }
 
 TEST_CASE("engine: randomly mutated corpus programs") {
