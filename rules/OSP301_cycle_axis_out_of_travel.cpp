@@ -1,6 +1,7 @@
 // OSP301 cycle-axis-out-of-travel: a macro call, a fixed-cycle hole or a
 // positioning move takes an axis outside `[machine.travel]`.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -244,9 +245,30 @@ private:
         return "this block moves " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
                motion_number(std::fabs(t.value - t.limit)) + (t.below ? " below" : " above");
     }
-    // Not state: what the rule reports is the same without it (so same_as
-    // leaves it out).
-    MacroAxisMemo axis_quiet_;
+    // The last few quiet calls, each with its cycle-axis points inside the
+    // travel (a posted program goes back to a tool, and its calls, after
+    // others), and the last quiet hole. Not state: what the rule reports is
+    // the same without them (so same_as leaves them out).
+    struct QuietCalls {
+        std::array<MacroAxisMemo, 16> memos;
+        size_t next = 0;
+        bool same(const BlockView& v, const TravelLimits& travel) const {
+            if (!v.call || !v.call->spec) return false;
+            for (const MacroAxisMemo& m : memos)
+                if (m.spec() == v.call->spec && m.same(v, travel)) return true;
+            return false;
+        }
+        // Takes the place of the oldest, when `v` is one to remember.
+        void remember(const BlockView& v, const TravelLimits& travel) {
+            if (same(v, travel)) return;
+            MacroAxisMemo m;
+            m.remember(v, travel);
+            if (!m.holds()) return;
+            memos[next] = std::move(m);
+            next = (next + 1) % memos.size();
+        }
+    };
+    QuietCalls axis_quiet_;
     HoleAxisMemo hole_quiet_;
     // Of the block repeat_values_decide said so of, per position word: where
     // its envelope reaches in the plane, from the word's value.

@@ -162,9 +162,10 @@ std::optional<Envelope> cycle_envelope(const BlockView& view, const Config& conf
 // of these has the same points: a posted program calls a macro thousands of
 // times with only its position changed. A macro whose steps read more than
 // that (MacroSpec::action_args is nullptr) is never remembered. OSP301
-// remembers a call whose points are inside the travel; the transfer step,
-// a call's end point (macro_end). A cache, not state: what is worked out
-// with it is what is worked out without it.
+// keeps one for each of the last few calls whose points are inside the
+// travel; the transfer step, one for a call's end point (macro_end). A
+// cache, not state: what is worked out with it is what is worked out
+// without it.
 class MacroAxisMemo {
 public:
     // Whether `v` runs a macro with the same points as the call remembered,
@@ -175,6 +176,8 @@ public:
     void remember(const BlockView& v, const TravelLimits& travel);
     // Whether a call is remembered (remember forgets one whose steps' reads are not listed).
     bool holds() const { return key_.spec != nullptr; }
+    // The macro of the call remembered (nullptr: none).
+    const MacroSpec* spec() const { return key_.spec; }
 
 private:
     struct Key {
