@@ -186,7 +186,7 @@ public:
 
     // After run: whether the outline of the next part can be joined to this
     // one (the first block with content was found and no directive waits for
-    // its target), and how many lines ended.
+    // its target).
     bool settled() const { return first_found_ && pending_.empty(); }
 
     FileOutline run() {
