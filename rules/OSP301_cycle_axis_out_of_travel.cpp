@@ -60,6 +60,11 @@ public:
         const Config& config = ctx.config();
         made_for_ = {};
         if (config.travel.empty()) return;
+        // A block that calls nothing, in no fixed cycle, and moves no axis
+        // has no envelope and positions nothing (M5, S600 M3, T31 M6).
+        if (!v.call && !(v.after.cycle.known && v.after.cycle.value) &&
+            std::none_of(v.block.words.begin(), v.block.words.end(), [](const Word& w) { return moved_axis(w) != 0; }))
+            return;
         // A macro call with the action-step points of the last quiet one:
         // only the positioning plane is left to look at.
         if (!v.plain_move && axis_quiet_.same(v, config.travel)) {
