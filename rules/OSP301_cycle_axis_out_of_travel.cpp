@@ -59,6 +59,7 @@ public:
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Config& config = ctx.config();
         made_for_ = {};
+        decided_ = {};
         if (config.travel.empty()) return;
         // A block that calls nothing, in no fixed cycle, and moves no axis
         // has no envelope and positions nothing (M5, S600 M3, T31 M6).
@@ -67,8 +68,15 @@ public:
             return;
         // A macro call with the action-step points of the last quiet one:
         // only the positioning plane is left to look at.
-        if (!v.plain_move && axis_quiet_.same(v, config.travel)) {
+        if (QuietCall* q = v.plain_move ? nullptr : axis_quiet_.find(v, config.travel)) {
+            // Its other arguments as that call's too: the plane is the one
+            // that call reached, moved with the position arguments.
+            if (q->reach.decides(v, config)) {
+                decided_ = {made_for(v), true, q->reach.axes(), q->reach.reaches()};
+                return;
+            }
             const std::optional<Envelope>& plane = envelope(v, config, EnvelopeDetail::Plane);
+            if (plane) q->reach.remember(v, *plane);
             if (plane && travel_violations(*plane, config).empty()) return;
             report_envelope(ctx, v, config);
             return;
@@ -94,7 +102,7 @@ public:
         // The values decide; the text of a finding needs the envelope in full.
         const std::vector<TravelViolation> past = travel_violations(*env, config);
         if (std::none_of(past.begin(), past.end(), [](const TravelViolation& t) { return t.point >= 0; })) {
-            axis_quiet_.remember(v, config.travel);
+            if (QuietCall* q = axis_quiet_.remember(v, config.travel)) q->reach.remember(v, *env);
             hole_quiet_.remember(v, config);
         }
         if (past.empty()) return;
@@ -143,35 +151,30 @@ public:
         } else if (!hole_quiet_.same(v, config) || !word_values()) {
             return false;
         }
-        // The plane points and spans of a Values envelope are those of a Plane one.
-        const std::optional<Envelope>& env = envelope(v, config, EnvelopeDetail::Plane);
-        if (!env) return false;
+        // Where check_block found the plane from a quiet call's reach, the
+        // reach holds the offsets; else the plane points and spans of a
+        // Values envelope are those of a Plane one.
+        const bool decided = decided_.holds && decided_.block == made_for(v);
+        const Envelope* env = nullptr;
+        if (!decided) {
+            const std::optional<Envelope>& plane = envelope(v, config, EnvelopeDetail::Plane);
+            if (!plane) return false;
+            env = &*plane;
+        }
         for (size_t i = 0; i < 2; ++i) {
             Offsets& o = offsets_[i];
             o = Offsets{};
             const auto it = config.travel.find(axes[i]);
             if (it == config.travel.end()) continue;
-            const auto take = [&](double lo, double hi) {
-                o.lo = o.any ? std::min(o.lo, lo - at[i]) : lo - at[i];
-                o.hi = o.any ? std::max(o.hi, hi - at[i]) : hi - at[i];
-                o.any = true;
-            };
-            for (const auto& p : env->plane_points)
-                if (p.axis == axes[i] && p.what.rfind("current", 0) != 0) take(p.value, p.value);
-            for (const auto& s : env->plane_spans)
-                if (s.axis == axes[i] && !s.either_way) take(s.range.lo, s.range.hi);
+            static_cast<Reach&>(o) = env ? reach_of(*env, axes[i], at[i]) : decided_.on(axes[i]);
             o.travel = it->second;
         }
         return true;
     }
     // Inside the travel with a margin that the offsets' rounding cannot cross.
     bool quiet_on_repeat_at(const std::array<double, 2>& values) const override {
-        constexpr double kMargin = 1e-6;
-        for (size_t i = 0; i < 2; ++i) {
-            const Offsets& o = offsets_[i];
-            if (o.any && !(values[i] + o.lo >= o.travel.min + kMargin && values[i] + o.hi <= o.travel.max - kMargin))
-                return false;
-        }
+        for (size_t i = 0; i < 2; ++i)
+            if (!inside(offsets_[i], values[i], offsets_[i].travel)) return false;
         return true;
     }
 
@@ -250,36 +253,145 @@ private:
         return "this block moves " + std::string(1, t.axis) + " to " + motion_number(t.value) + ", " +
                motion_number(std::fabs(t.value - t.limit)) + (t.below ? " below" : " above");
     }
+    // Where an envelope reaches on a positioning-plane axis, from the value
+    // `at` of the position argument or word: its points (not the current
+    // position) and its spans that go one way (travel_violations reports
+    // only those), as offsets from `at`.
+    struct Reach {
+        bool any = false;
+        double lo = 0, hi = 0;
+    };
+    static Reach reach_of(const Envelope& env, char axis, double at) {
+        Reach r;
+        const auto take = [&](double lo, double hi) {
+            r.lo = r.any ? std::min(r.lo, lo - at) : lo - at;
+            r.hi = r.any ? std::max(r.hi, hi - at) : hi - at;
+            r.any = true;
+        };
+        for (const auto& p : env.plane_points)
+            if (p.axis == axis && p.what.rfind("current", 0) != 0) take(p.value, p.value);
+        for (const auto& s : env.plane_spans)
+            if (s.axis == axis && !s.either_way) take(s.range.lo, s.range.hi);
+        return r;
+    }
+    // Inside the travel with a margin that the offsets' rounding cannot cross.
+    static constexpr double kMargin = 1e-6;
+    static bool inside(const Reach& r, double at, const TravelLimit& t) {
+        return !r.any || (at + r.lo >= t.min + kMargin && at + r.hi <= t.max - kMargin);
+    }
+
+    // Where a CALL in absolute mode that gives both position arguments
+    // reaches in the plane, as offsets from their values, with every other
+    // argument as it gave them. A call of the same macro in the same plane
+    // that gives the same other arguments has the same points and spans,
+    // moved by its position values (plane_centre, add_plane_spans): only
+    // those values are left to compare with the travel.
+    class PlaneReach {
+    public:
+        bool holds = false;
+        // Of the call `v`, whose envelope (Values or Plane) is `env`.
+        void remember(const BlockView& v, const Envelope& env) {
+            holds = false;
+            std::array<double, 2> at{};
+            if (!key(v, at)) return;
+            const MacroSpec& spec = *v.call->spec;
+            args_.resize(spec.args.size());
+            for (size_t j = 0; j < spec.args.size(); ++j)
+                args_[j] = j == position_[0] || j == position_[1] ? ArgSeen{} : ArgSeen::of(v.call->given(spec.args[j]));
+            for (size_t i = 0; i < 2; ++i) reach_[i] = reach_of(env, axes_[i], at[i]);
+            holds = true;
+        }
+        // Whether `v`, a call the memo holds, stays inside the travel in the
+        // plane with the margin (false: not known so; work it out).
+        bool decides(const BlockView& v, const Config& config) const {
+            if (!holds || !v.before.plane.is(plane_)) return false;
+            std::array<double, 2> at{};
+            if (!values(v, at)) return false;
+            const MacroSpec& spec = *v.call->spec;
+            if (args_.size() != spec.args.size()) return false;
+            for (size_t j = 0; j < args_.size(); ++j)
+                if (j != position_[0] && j != position_[1] && !(ArgSeen::of(v.call->given(spec.args[j])) == args_[j]))
+                    return false;
+            for (size_t i = 0; i < 2; ++i) {
+                const auto it = config.travel.find(axes_[i]);
+                if (it != config.travel.end() && !inside(reach_[i], at[i], it->second)) return false;
+            }
+            return true;
+        }
+        const std::array<char, 2>& axes() const { return axes_; }
+        const std::array<Reach, 2>& reaches() const { return reach_; }
+
+    private:
+        // The plane, its axes and the position arguments' indexes, of a CALL that gives both.
+        bool key(const BlockView& v, std::array<double, 2>& at) {
+            if (!v.call || !v.call->spec || v.call->kind != CallKind::Call || !v.before.plane.known) return false;
+            plane_ = v.before.plane.value;
+            const PlaneAxes pa = plane_axes(plane_);
+            axes_ = {pa.first, pa.second};
+            const MacroSpec& spec = *v.call->spec;
+            for (size_t i = 0; i < 2; ++i) {
+                const ArgSpec* a = spec.position_arg(plane_number(plane_), axes_[i]);
+                if (!a) return false;
+                position_[i] = static_cast<size_t>(a - spec.args.data());
+            }
+            return values(v, at);
+        }
+        // The position arguments' values, of a CALL in absolute mode.
+        bool values(const BlockView& v, std::array<double, 2>& at) const {
+            if (v.call->kind != CallKind::Call || !v.before.distance.is(Distance::Absolute)) return false;
+            const MacroSpec& spec = *v.call->spec;
+            for (size_t i = 0; i < 2; ++i) {
+                if (position_[i] >= spec.args.size()) return false;
+                const MacroArg* m = v.call->given(spec.args[position_[i]]);
+                if (!m || !m->value.known) return false;
+                at[i] = m->value.value;
+            }
+            return true;
+        }
+        Plane plane_{};
+        std::array<char, 2> axes_{};
+        std::array<size_t, 2> position_{};
+        std::vector<ArgSeen> args_;
+        std::array<Reach, 2> reach_{};
+    };
+
     // The last few quiet calls, each with its cycle-axis points inside the
     // travel (a posted program goes back to a tool, and its calls, after
     // others), and the last quiet hole. Not state: what the rule reports is
     // the same without them (so same_as leaves them out).
+    struct QuietCall {
+        MacroAxisMemo memo;
+        PlaneReach reach;  // of the last call it decided that gave a plane (PlaneReach::remember)
+    };
     struct QuietCalls {
-        std::array<MacroAxisMemo, 16> memos;
+        std::array<QuietCall, 16> calls;
         size_t next = 0;
-        bool same(const BlockView& v, const TravelLimits& travel) const {
-            if (!v.call || !v.call->spec) return false;
-            for (const MacroAxisMemo& m : memos)
-                if (m.spec() == v.call->spec && m.same(v, travel)) return true;
-            return false;
+        QuietCall* find(const BlockView& v, const TravelLimits& travel) {
+            if (!v.call || !v.call->spec) return nullptr;
+            for (QuietCall& q : calls)
+                if (q.memo.spec() == v.call->spec && q.memo.same(v, travel)) return &q;
+            return nullptr;
         }
-        // Takes the place of the oldest, when `v` is one to remember.
-        void remember(const BlockView& v, const TravelLimits& travel) {
-            if (same(v, travel)) return;
+        bool same(const BlockView& v, const TravelLimits& travel) { return find(v, travel) != nullptr; }
+        // Takes the place of the oldest, when `v` is one to remember; the
+        // entry that holds it (nullptr: not one to remember).
+        QuietCall* remember(const BlockView& v, const TravelLimits& travel) {
+            if (QuietCall* q = find(v, travel)) return q;
             MacroAxisMemo m;
             m.remember(v, travel);
-            if (!m.holds()) return;
-            memos[next] = std::move(m);
-            next = (next + 1) % memos.size();
+            if (!m.holds()) return nullptr;
+            QuietCall& q = calls[next];
+            q.memo = std::move(m);
+            q.reach.holds = false;
+            next = (next + 1) % calls.size();
+            return &q;
         }
     };
     QuietCalls axis_quiet_;
     HoleAxisMemo hole_quiet_;
     // Of the block repeat_values_decide said so of, per position word: where
     // its envelope reaches in the plane, from the word's value.
-    struct Offsets {
-        bool any = false;
-        double lo = 0, hi = 0;
+    struct Offsets : Reach {
         TravelLimit travel;
     };
     std::array<Offsets, 2> offsets_{};
@@ -296,11 +408,22 @@ private:
         const ModalState* after = nullptr;
         bool operator==(const MadeFor&) const = default;
     };
+    static MadeFor made_for(const BlockView& v) { return {&v.block, v.block.line, v.block.range, &v.before, &v.after}; }
     MadeFor made_for_;
     std::optional<Envelope> envelope_;
+    // The block check_block found inside the travel from a quiet call's
+    // reach, with that reach (for repeat_values_decide, as made_for_).
+    struct Decided {
+        MadeFor block;
+        bool holds = false;
+        std::array<char, 2> axes{};
+        std::array<Reach, 2> reach{};
+        Reach on(char axis) const { return axis == axes[0] ? reach[0] : axis == axes[1] ? reach[1] : Reach{}; }
+    };
+    Decided decided_;
     // The envelope of `v` to `detail`, or, for Plane, the one made for it with the values.
     const std::optional<Envelope>& envelope(const BlockView& v, const Config& config, EnvelopeDetail detail) {
-        const MadeFor key{&v.block, v.block.line, v.block.range, &v.before, &v.after};
+        const MadeFor key = made_for(v);
         if (detail != EnvelopeDetail::Plane || !(made_for_ == key)) {
             envelope_ = cycle_envelope(v, config, detail);
             made_for_ = key;
