@@ -211,6 +211,8 @@ void Walk::walk_blocks() {
         if (!repeat_.armed || !may_repeat()) {
             if (move && rules_idle() && skim_run(kRunLines, flow_.end())) continue;
             if (quiet_run(kRunLines, flow_.end(), move)) continue;
+        } else if (repeat_run(kRunLines)) {
+            continue;
         }
         const Next next = read_for_rules(b, line, move);
         if (next == Next::End) break;
@@ -1012,20 +1014,91 @@ Walk::Repeated Walk::repeated(const Block& b, const MacroCall* c, const ModalSta
 }
 
 bool Walk::repeats_text(std::string_view t, std::array<double, 2>* values) const {
+    return repeat_length(t, values) == t.size();
+}
+
+size_t Walk::repeat_length(std::string_view t, std::array<double, 2>* values) const {
     const std::string& k = repeat_.text;
     uint32_t from = 0, at = 0;  // in t, in k
     for (uint8_t i = 0;; ++i) {
         const uint32_t cut = i < repeat_.count ? repeat_.cuts[i] : static_cast<uint32_t>(k.size());
         const uint32_t len = cut - at;
-        if (t.size() - from < len || same_prefix(t.data() + from, k.data() + at, len) != len) return false;
+        if (t.size() - from < len || same_prefix(t.data() + from, k.data() + at, len) != len) return kNoRepeat;
         from += len;
-        if (i == repeat_.count) return from == t.size();
+        if (i == repeat_.count) return from;
         at = cut;
         const uint32_t end =
             values ? FastLineParser::plain_value(t, from, (*values)[i]) : FastLineParser::plain_value_end(t, from);
-        if (end == from) return false;
+        if (end == from) return kNoRepeat;
         from = end;
     }
+}
+
+// The lines from the next one on that repeat_line would take, up to
+// `max_lines`, told from the input's buffer: each is matched with
+// repeat_.text there, and its line break looked at after the match (LF or
+// CR LF; any other line is left to fetch). What fetch and repeat_line do
+// for each is done here; the run stops where either would stop (the end
+// of the program, a pending directive, a loop head, a value a rule does not
+// find quiet) and, when the walk may be cancelled, where fetch would look
+// at the flag. Returns the lines passed over.
+uint32_t Walk::repeat_run(uint32_t max_lines) {
+    if (!repeat_.armed || !repeat_.from_text || !runs_ok_ || ahead_next_ < ahead_.size()) return 0;
+    const uint64_t from = main_.next_offset();
+    if (from >= UINT32_MAX) return 0;
+    if (options_.cancel) max_lines = std::min<uint32_t>(max_lines, 1024 - (walked_ & 1023));
+    const std::string_view text = main_.buffered();
+    const uint32_t at = static_cast<uint32_t>(from);
+    const uint32_t first_line = main_.next_line();
+    const bool want_values = repeat_.sets_plane || !repeat_.value_rules.empty();
+    std::array<double, 2> values{};
+    size_t pos = 0, last_start = 0;
+    uint32_t lines = 0;
+    while (lines < max_lines) {
+        if (repeat_.transfers != stats_.transfers || repeat_.epoch != flow_epoch_ || !reachable_) break;
+        const std::string_view rest = text.substr(pos);
+        const size_t len = repeat_length(rest, want_values ? &values : nullptr);
+        if (len == kNoRepeat || len > kMaxLineLength) break;
+        size_t term = 0;
+        if (len < rest.size() && rest[len] == '\n') term = 1;
+        else if (len + 1 < rest.size() && rest[len] == '\r' && rest[len + 1] == '\n') term = 2;
+        else break;
+        const uint64_t start = from + pos;
+        if (start + len + term >= flow_.end() || start + len + term > kMaxInputSize) break;
+        const uint32_t start32 = at + static_cast<uint32_t>(pos);
+        if (pending_offset_.find(start32) || flow_.loop_at_head(start32)) break;
+        bool quiet = true;
+        for (const Rule* r : repeat_.value_rules)
+            if (!r->quiet_on_repeat_at(values)) {
+                quiet = false;
+                break;
+            }
+        if (!quiet) break;
+        positions_.note_line(LineRef{{}, {}, first_line + lines, start32});
+        if (repeat_.sets_plane) {
+            // A_ is the state the block before left (Walk::leave).
+            for (uint8_t i = 0; i < repeat_.count; ++i) *A_->axis_ref(repeat_.axes[i]) = Val<double>::of(values[i]);
+            near_ = false;
+        }
+        ++stats_.transfers;
+        ++stats_.repeats;
+        ++stats_.text_repeats;
+        repeat_.transfers = stats_.transfers;
+        last_start = pos;
+        pos += len + term;
+        ++lines;
+    }
+    if (lines == 0) return 0;
+    main_.skip_buffered(pos, lines, last_start);
+    stats_.blocks_parsed += lines;
+    if (options_.cancel && ((walked_ + lines) >> 10) != (walked_ >> 10) &&
+        options_.cancel->load(std::memory_order_relaxed)) {
+        walked_ += lines;
+        fail(std::string(kCancelled));
+        return lines;
+    }
+    walked_ += lines;
+    return lines;
 }
 
 // Such a line is what visit would find a repeat (Walk::repeated) of a block

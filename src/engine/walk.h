@@ -465,6 +465,12 @@ private:
     // Whether `text` is repeat_.text with a plain number at each cut; those
     // numbers in `values`, when set.
     bool repeats_text(std::string_view text, std::array<double, 2>* values) const;
+    // How many bytes from the start of `text` are repeat_.text with a plain
+    // number at each cut (kNoRepeat: it does not start so); `text` may go on
+    // past them.
+    size_t repeat_length(std::string_view text, std::array<double, 2>* values) const;
+    static constexpr size_t kNoRepeat = ~size_t(0);
+    uint32_t repeat_run(uint32_t max_lines);
     const std::vector<Rule*>& repeat_rules_of(const MacroSpec* spec, CallKind kind, bool plain_call);
     Repeat repeat_;
     std::map<std::tuple<const MacroSpec*, CallKind, bool>, std::vector<Rule*>> repeat_rules_of_;

@@ -66,8 +66,9 @@ public:
     uint32_t call_head_end(const LineRef& line);
     // Where the value of a `Pname=number` argument at `p` of `text` ends, as
     // plain_call reads it: an optional sign, then a decimal literal of at
-    // most 15 digits, then a blank or the end of the text; `p` when there is
-    // no such value there.
+    // most 15 digits, then a blank, a line break or the end of the text; `p`
+    // when there is no such value there. (A line holds no line break: the
+    // walk reads repeats from its input's buffer, where one ends the line.)
     // Inline: the walk asks it for every value of a repeated line.
     static uint32_t plain_value_end(std::string_view text, uint32_t p) {
         double unused;
@@ -168,7 +169,8 @@ private:
             digits += fraction;
         }
         if (digits == 0 || digits > 15) return p;
-        if (e < n && s[e] != ' ' && s[e] != '\t' && s[e] != '\f' && s[e] != '\v') return p;
+        if (e < n && s[e] != ' ' && s[e] != '\t' && s[e] != '\f' && s[e] != '\v' && s[e] != '\n' && s[e] != '\r')
+            return p;
         if (kValue) {
             value = fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m);
             if (minus) value = -value;

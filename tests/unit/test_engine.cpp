@@ -1041,6 +1041,16 @@ TEST_CASE("engine: with travel limits, repeats near a limit give the reference's
         AnalysisOptions options;
         options.fold = 0;
         for (const auto& d : check_text("near.min", text, config, options).diagnostics) ++seen[d.rule];
+        // The walk reads runs of such repeats from its input's buffer, up to
+        // each line break (Walk::repeat_run): the same with CR LF and with CR
+        // alone (left to the line-by-line path), told from the text as often.
+        for (const std::string eol : {"\r\n", "\r"}) {
+            std::string other;
+            for (const char c : text) other += c == '\n' ? eol : std::string(1, c);
+            EngineStats ost;
+            compare_checks("near" + std::to_string(r) + "-eol.min", other, config, {}, &ost);
+            CHECK(ost.text_repeats == st.text_repeats);
+        }
     }
     CHECK(told > 100);
     CHECK(seen["OSP301"] > 100);
