@@ -115,7 +115,7 @@ public:
     // span of the envelope is the position words' values plus an offset that
     // the repeat does not change. The offsets of `v` are kept, per axis.
     bool repeat_values_decide(const Config& config, const BlockView& v, const std::array<char, 2>& axes,
-                              uint8_t count) override {
+                              uint8_t count, std::array<QuietRange, 2>& quiet) override {
         if (config.travel.empty() || v.plain_move || count != 2 || !v.before.plane.known ||
             !v.before.distance.is(Distance::Absolute))
             return false;
@@ -161,20 +161,15 @@ public:
             if (!plane) return false;
             env = &*plane;
         }
+        // Inside the travel with a margin that the offsets' rounding cannot cross.
         for (size_t i = 0; i < 2; ++i) {
-            Offsets& o = offsets_[i];
-            o = Offsets{};
+            quiet[i] = QuietRange{};
             const auto it = config.travel.find(axes[i]);
             if (it == config.travel.end()) continue;
-            static_cast<Reach&>(o) = env ? reach_of(*env, axes[i], at[i]) : decided_.on(axes[i]);
-            o.travel = it->second;
+            const Reach r = env ? reach_of(*env, axes[i], at[i]) : decided_.on(axes[i]);
+            if (!r.any) continue;
+            quiet[i] = {it->second.min + kMargin - r.lo, it->second.max - kMargin - r.hi};
         }
-        return true;
-    }
-    // Inside the travel with a margin that the offsets' rounding cannot cross.
-    bool quiet_on_repeat_at(const std::array<double, 2>& values) const override {
-        for (size_t i = 0; i < 2; ++i)
-            if (!inside(offsets_[i], values[i], offsets_[i].travel)) return false;
         return true;
     }
 
@@ -274,7 +269,8 @@ private:
             if (s.axis == axis && !s.either_way) take(s.range.lo, s.range.hi);
         return r;
     }
-    // Inside the travel with a margin that the offsets' rounding cannot cross.
+    // Inside the travel with a margin that the offsets' rounding cannot
+    // cross (PlaneReach::decides, repeat_values_decide).
     static constexpr double kMargin = 1e-6;
     static bool inside(const Reach& r, double at, const TravelLimit& t) {
         return !r.any || (at + r.lo >= t.min + kMargin && at + r.hi <= t.max - kMargin);
@@ -389,12 +385,6 @@ private:
     };
     QuietCalls axis_quiet_;
     HoleAxisMemo hole_quiet_;
-    // Of the block repeat_values_decide said so of, per position word: where
-    // its envelope reaches in the plane, from the word's value.
-    struct Offsets : Reach {
-        TravelLimit travel;
-    };
-    std::array<Offsets, 2> offsets_{};
     // The envelope check_block made of the block it saw last (in the plane,
     // or with the values), kept for repeat_values_decide, which the walk
     // asks right after about the same block (Walk::check); check_block

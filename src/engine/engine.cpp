@@ -1050,7 +1050,7 @@ uint32_t Walk::repeat_run(uint32_t max_lines) {
     const std::string_view text = main_.buffered();
     const uint32_t at = static_cast<uint32_t>(from);
     const uint32_t first_line = main_.next_line();
-    const bool want_values = repeat_.sets_plane || !repeat_.value_rules.empty();
+    const bool want_values = repeat_.sets_plane || repeat_.by_values;
     std::array<double, 2> values{};
     size_t pos = 0, last_start = 0;
     uint32_t lines = 0;
@@ -1067,13 +1067,7 @@ uint32_t Walk::repeat_run(uint32_t max_lines) {
         if (start + len + term >= flow_.end() || start + len + term > kMaxInputSize) break;
         const uint32_t start32 = at + static_cast<uint32_t>(pos);
         if (pending_offset_.find(start32) || flow_.loop_at_head(start32)) break;
-        bool quiet = true;
-        for (const Rule* r : repeat_.value_rules)
-            if (!r->quiet_on_repeat_at(values)) {
-                quiet = false;
-                break;
-            }
-        if (!quiet) break;
+        if (repeat_.by_values && !repeat_.quiet_at(values)) break;
         positions_.note_line(LineRef{{}, {}, first_line + lines, start32});
         if (repeat_.sets_plane) {
             // A_ is the state the block before left (Walk::leave).
@@ -1111,11 +1105,10 @@ bool Walk::repeat_line(const LineRef& line) {
     std::array<double, 2> values{};
     if (!repeat_.armed || !repeat_.from_text || repeat_.transfers != stats_.transfers ||
         repeat_.epoch != flow_epoch_ || !reachable_ || line.end() >= flow_.end() ||
-        !repeats_text(line.text, repeat_.sets_plane || !repeat_.value_rules.empty() ? &values : nullptr) ||
-        pending_offset_.find(line.start) || flow_.loop_at_head(line.start))
+        !repeats_text(line.text, repeat_.sets_plane || repeat_.by_values ? &values : nullptr) ||
+        pending_offset_.find(line.start) || flow_.loop_at_head(line.start) ||
+        (repeat_.by_values && !repeat_.quiet_at(values)))
         return false;
-    for (const Rule* r : repeat_.value_rules)
-        if (!r->quiet_on_repeat_at(values)) return false;
     if (repeat_.sets_plane) {
         // A_ is the state the block before left (Walk::leave).
         for (uint8_t i = 0; i < repeat_.count; ++i) *A_->axis_ref(repeat_.axes[i]) = Val<double>::of(values[i]);
@@ -1196,14 +1189,21 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
             // and the transfer step's memos are those the block left.
             repeat_.sets_plane = false;
             repeat_.from_text = runs_ok_ && !options_.observer && !in_loop_ && !held_;
-            repeat_.value_rules.clear();
+            repeat_.by_values = false;
+            repeat_.quiet = {};
             for (Rule* r : *repeat_.rules) {
                 if (!repeat_.from_text) break;
                 if (r->quiet_on_repeat_of(view)) continue;
-                if (r->repeat_values_decide(config_, view, spans.axis, spans.count))
-                    repeat_.value_rules.push_back(r);
-                else
+                std::array<Rule::QuietRange, 2> quiet{};
+                if (!r->repeat_values_decide(config_, view, spans.axis, spans.count, quiet)) {
                     repeat_.from_text = false;
+                    break;
+                }
+                repeat_.by_values = true;
+                for (size_t i = 0; i < 2; ++i) {
+                    repeat_.quiet[i].lo = std::max(repeat_.quiet[i].lo, quiet[i].lo);
+                    repeat_.quiet[i].hi = std::min(repeat_.quiet[i].hi, quiet[i].hi);
+                }
             }
             if (repeat_.from_text && repeat_.kind == CallKind::Call) {
                 repeat_.from_text =

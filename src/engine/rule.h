@@ -12,6 +12,7 @@
 
 #include <array>
 #include <concepts>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -255,23 +256,24 @@ public:
         (void)v;
         return false;
     }
+    // The values of a position word for which a rule does nothing on a repeat
+    // (repeat_values_decide): from lo to hi, both included.
+    struct QuietRange {
+        double lo = -std::numeric_limits<double>::infinity();
+        double hi = std::numeric_limits<double>::infinity();
+    };
     // For a rule that is not quiet_on_repeat_of(v): whether what check_block
     // would do on a repeat of `v` depends only on the values of the position
     // words the repeat changes (their plane axes in `axes`, in line order),
-    // and is nothing for some of them (OSP301: the travel limits). The rule
-    // keeps what it needs for quiet_on_repeat_at; the walk asks after each
-    // block that may be repeated.
+    // and is nothing for some of them (OSP301: the travel limits). Then
+    // `quiet` holds, for each word, the values for which check_block would
+    // do nothing on such a repeat nor change the rule's state: a repeat
+    // whose values are all inside is told from its text, and any other is
+    // parsed and shown to the rule. The walk asks after each block that may
+    // be repeated.
     virtual bool repeat_values_decide(const Config& config, const BlockView& v, const std::array<char, 2>& axes,
-                                      uint8_t count) {
-        (void)config, (void)v, (void)axes, (void)count;
-        return false;
-    }
-    // After repeat_values_decide said so: whether check_block would do
-    // nothing on a repeat whose values are `values` (in the order of `axes`),
-    // nor change the rule's state. A repeat it says no to is parsed and shown
-    // to the rule.
-    virtual bool quiet_on_repeat_at(const std::array<double, 2>& values) const {
-        (void)values;
+                                      uint8_t count, std::array<QuietRange, 2>& quiet) {
+        (void)config, (void)v, (void)axes, (void)count, (void)quiet;
         return false;
     }
     // A rule that sees plain moves may say, from what it has seen so far, that

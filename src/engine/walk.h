@@ -439,9 +439,15 @@ private:
         // (repeat_sets_plane): the axis of each cut, in `axes`.
         bool sets_plane = false;
         std::array<char, 2> axes{};
-        // The rules that tell from a repeat's values whether it is quiet
-        // (Rule::repeat_values_decide), asked on each such repeat.
-        std::vector<Rule*> value_rules;
+        // Some rules tell from a repeat's values whether they are quiet
+        // (Rule::repeat_values_decide): the values for which all are.
+        bool by_values = false;
+        std::array<Rule::QuietRange, 2> quiet{};
+        bool quiet_at(const std::array<double, 2>& values) const {
+            for (uint8_t i = 0; i < count; ++i)
+                if (!(values[i] >= quiet[i].lo && values[i] <= quiet[i].hi)) return false;
+            return true;
+        }
     };
     // Where the values of the plane's position words are on a block that may
     // be repeated (offsets in its line): at most two.
