@@ -705,14 +705,22 @@ bool Walk::apply_plain_values(const LineRef& line, bool names) {
 }
 
 // The next line of the walk with the rules: a plain move checked from its
-// values alone (skim_checked), or its block, read for visit.
+// values alone (skim_checked), or its block, read for visit. A plain move
+// starts with its sequence name or with a G, X, Y, Z or F word
+// (FastLineParser::plain_move); a line that starts otherwise (a comment, a
+// tool change, a spindle code, a CALL) is not tried as one.
 bool Walk::may_be_move() const {
     const std::string_view text = main_.buffered();
     size_t i = 0;
-    while (i < text.size() && (text[i] == ' ' || text[i] == '\t')) ++i;
+    while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\f' || text[i] == '\v')) ++i;
     if (i == text.size()) return true;  // not read yet
-    const char c = static_cast<char>(text[i] | 0x20);
-    return c != 'c' && c != 'm';
+    switch (text[i]) {
+        case 'N': case 'G': case 'X': case 'Y': case 'Z': case 'F':
+        case 'n': case 'g': case 'x': case 'y': case 'z': case 'f':
+            return true;
+        default:
+            return false;
+    }
 }
 
 Walk::Next Walk::read_for_rules(Block& b, LineRef& line, bool move) {
