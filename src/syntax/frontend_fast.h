@@ -148,34 +148,38 @@ private:
     // digits as an integer and the power of ten are exact doubles, so their
     // quotient is the correctly rounded value (as the line parser computes it).
     template <bool kValue>
-    static uint32_t plain_value_at(std::string_view text, uint32_t p, double& value) {
+    [[gnu::always_inline]] static uint32_t plain_value_at(std::string_view text, uint32_t p, double& value) {
         static constexpr double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
                                             1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
         const char* s = text.data();
         const uint32_t n = static_cast<uint32_t>(text.size());
-        const auto digit = [&](uint32_t i) { return static_cast<unsigned char>(s[i] - '0') < 10; };
-        const bool minus = p < n && s[p] == '-';
-        uint32_t e = p + static_cast<uint32_t>(minus || (p < n && s[p] == '+'));
+        uint32_t e = p;
+        bool minus = false;
+        if (e < n && (s[e] == '-' || s[e] == '+')) minus = s[e++] == '-';
         uint64_t m = 0;
         const uint32_t first = e;
-        for (; e < n && digit(e); ++e)
-            if (kValue) m = m * 10 + static_cast<uint64_t>(s[e] - '0');
+        unsigned d = 0;
+        for (; e < n && (d = static_cast<unsigned char>(s[e]) - unsigned('0')) < 10; ++e)
+            if (kValue) m = m * 10 + d;
         uint32_t digits = e - first, fraction = 0;
         if (e < n && s[e] == '.') {
             const uint32_t f = ++e;
-            for (; e < n && digit(e); ++e)
-                if (kValue) m = m * 10 + static_cast<uint64_t>(s[e] - '0');
+            for (; e < n && (d = static_cast<unsigned char>(s[e]) - unsigned('0')) < 10; ++e)
+                if (kValue) m = m * 10 + d;
             fraction = e - f;
             digits += fraction;
         }
         if (digits == 0 || digits > 15) return p;
-        if (e < n && s[e] != ' ' && s[e] != '\t' && s[e] != '\f' && s[e] != '\v' && s[e] != '\n' && s[e] != '\r')
-            return p;
+        if (e < n && !value_may_end(s[e])) return p;
         if (kValue) {
             value = fraction ? static_cast<double>(m) / kPow10[fraction] : static_cast<double>(m);
             if (minus) value = -value;
         }
         return e;
+    }
+    // A blank or a line break.
+    static bool value_may_end(char c) {
+        return c == ' ' || (c >= '\t' && c <= '\r');  // tab, LF, VT, FF, CR
     }
 
     struct Impl;
