@@ -1046,24 +1046,29 @@ size_t Walk::repeat_length(std::string_view t, std::array<double, 2>* values) co
 // `max_lines`, told from the input's buffer: each is matched with
 // repeat_.text there, and its line break looked at after the match (LF or
 // CR LF; any other line is left to fetch). What fetch and repeat_line do
-// for each is done here; the run stops where either would stop (the end
-// of the program, a pending directive, a loop head, a value a rule does not
-// find quiet) and, when the walk may be cancelled, where fetch would look
-// at the flag. Returns the lines passed over.
+// for each is done here: the state repeat_line asks about stays as it is
+// through the run, and it ends before the first line where repeat_line
+// would refuse (where paths join, where a loop starts, at the end of the
+// program, at a value a rule is not quiet for) and, when the walk may be
+// cancelled, where fetch would look at the flag. Returns the lines passed
+// over.
 uint32_t Walk::repeat_run(uint32_t max_lines) {
     if (!repeat_.armed || !repeat_.from_text || !runs_ok_ || ahead_next_ < ahead_.size()) return 0;
+    if (repeat_.transfers != stats_.transfers || repeat_.epoch != flow_epoch_ || !reachable_) return 0;
     const uint64_t from = main_.next_offset();
     if (from >= UINT32_MAX) return 0;
     if (options_.cancel) max_lines = std::min<uint32_t>(max_lines, 1024 - (walked_ & 1023));
     const std::string_view text = main_.buffered();
     const uint32_t at = static_cast<uint32_t>(from);
+    const uint64_t start_limit = std::min(pending_offset_.next_at(at), flow_.next_loop_head(at));
+    // fetch refuses a line past kMaxInputSize; repeat_line, one that ends the program.
+    const uint64_t end_limit = std::min<uint64_t>(flow_.end(), kMaxInputSize + 1);
     const uint32_t first_line = main_.next_line();
     const bool want_values = repeat_.sets_plane || repeat_.by_values;
     std::array<double, 2> values{};
     size_t pos = 0, last_start = 0;
     uint32_t lines = 0;
     while (lines < max_lines) {
-        if (repeat_.transfers != stats_.transfers || repeat_.epoch != flow_epoch_ || !reachable_) break;
         const std::string_view rest = text.substr(pos);
         const size_t len = repeat_length(rest, want_values ? &values : nullptr);
         if (len == kNoRepeat || len > kMaxLineLength) break;
@@ -1072,20 +1077,16 @@ uint32_t Walk::repeat_run(uint32_t max_lines) {
         else if (len + 1 < rest.size() && rest[len] == '\r' && rest[len + 1] == '\n') term = 2;
         else break;
         const uint64_t start = from + pos;
-        if (start + len + term >= flow_.end() || start + len + term > kMaxInputSize) break;
-        const uint32_t start32 = at + static_cast<uint32_t>(pos);
-        if (pending_offset_.find(start32) || flow_.loop_at_head(start32)) break;
+        if (start >= start_limit || start + len + term >= end_limit) break;
         if (repeat_.by_values && !repeat_.quiet_at(values)) break;
-        positions_.note_line(LineRef{{}, {}, first_line + lines, start32});
+        const uint32_t line = first_line + lines;
+        if (line % Positions::kCheckpointLines == 0)
+            positions_.note_line(LineRef{{}, {}, line, at + static_cast<uint32_t>(pos)});
         if (repeat_.sets_plane) {
             // A_ is the state the block before left (Walk::leave).
             for (uint8_t i = 0; i < repeat_.count; ++i) *A_->axis_ref(repeat_.axes[i]) = Val<double>::of(values[i]);
             near_ = false;
         }
-        ++stats_.transfers;
-        ++stats_.repeats;
-        ++stats_.text_repeats;
-        repeat_.transfers = stats_.transfers;
         last_start = pos;
         pos += len + term;
         ++lines;
@@ -1093,6 +1094,10 @@ uint32_t Walk::repeat_run(uint32_t max_lines) {
     if (lines == 0) return 0;
     main_.skip_buffered(pos, lines, last_start);
     stats_.blocks_parsed += lines;
+    stats_.transfers += lines;
+    stats_.repeats += lines;
+    stats_.text_repeats += lines;
+    repeat_.transfers = stats_.transfers;
     if (options_.cancel && ((walked_ + lines) >> 10) != (walked_ >> 10) &&
         options_.cancel->load(std::memory_order_relaxed)) {
         walked_ += lines;
