@@ -7,15 +7,6 @@
 
 namespace osplint {
 
-PlaneAxes plane_axes(Plane p) {
-    switch (p) {
-        case Plane::G17: return {'X', 'Y', 'Z'};
-        case Plane::G18: return {'Z', 'X', 'Y'};
-        case Plane::G19: return {'Y', 'Z', 'X'};
-    }
-    return {'X', 'Y', 'Z'};
-}
-
 const char* plane_name(Plane p) {
     switch (p) {
         case Plane::G17: return "G17";

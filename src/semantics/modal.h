@@ -101,7 +101,14 @@ enum class CycleReturn : uint8_t { Initial, R };  // G98 / G99
 struct PlaneAxes {
     char first, second, cycle;
 };
-PlaneAxes plane_axes(Plane p);
+// Inline: asked of nearly every block the walk visits.
+inline PlaneAxes plane_axes(Plane p) {
+    switch (p) {
+        case Plane::G18: return {'Z', 'X', 'Y'};
+        case Plane::G19: return {'Y', 'Z', 'X'};
+        default: return {'X', 'Y', 'Z'};
+    }
+}
 const char* plane_name(Plane p);  // "G17"
 inline int plane_number(Plane p) { return p == Plane::G17 ? 17 : p == Plane::G18 ? 18 : 19; }  // 17, 18, 19
 

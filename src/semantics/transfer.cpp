@@ -33,13 +33,6 @@ std::optional<double> word_value(const Block& b, const Word& w, const ModalState
     return std::nullopt;
 }
 
-std::optional<int> code_of(const Word& w) {
-    if (!w.number) return std::nullopt;
-    double v = *w.number;
-    if (v < 0 || v > 100000 || v != std::floor(v)) return std::nullopt;
-    return static_cast<int>(v);
-}
-
 namespace {
 
 // A fixed cycle of the catalog, or one of the synchronized tapping cycles.

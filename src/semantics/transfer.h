@@ -141,6 +141,14 @@ void apply_plain_move(const PlainMove& move, uint32_t line, ModalState& state);
 // The value of a word in `state`: its literal, or its expression when it can be evaluated.
 std::optional<double> word_value(const Block& block, const Word& word, const ModalState& state);
 // Integer code of a G/M word when it is a plain literal (G00 -> 0, M52 -> 52).
-std::optional<int> code_of(const Word& word);
+inline std::optional<int> code_of(const Word& word) {
+    if (!word.number) return std::nullopt;
+    const double v = *word.number;
+    if (!(v >= 0 && v <= 100000)) return std::nullopt;
+    // In range, the conversion is exact for a whole number (no call to floor).
+    const int c = static_cast<int>(v);
+    if (static_cast<double>(c) != v) return std::nullopt;
+    return c;
+}
 
 }  // namespace osplint
