@@ -94,6 +94,13 @@ public:
             report_positions(ctx, config, axes_past_travel(v.block.words, v.before, v.after, config));
             return;
         }
+        // Nor does a block that calls nothing, with no fixed cycle known to
+        // be modal after it (G0 Z100., G56 Z50. H31): cycle_envelope would
+        // find none.
+        if (!v.call && !(v.after.cycle.known && v.after.cycle.value)) {
+            report_positions(ctx, config, positioning_violations(v, config));
+            return;
+        }
         const std::optional<Envelope>& env = envelope(v, config, EnvelopeDetail::Values);
         if (!env) {
             report_positions(ctx, config, positioning_violations(v, config));
