@@ -117,6 +117,30 @@ Scan next_candidate(const char* p, const char* e, bool line_start) {
     return out;
 }
 
+}  // namespace
+
+bool comments_only(std::string_view text) {
+    size_t i = 0;
+    bool any = false;
+    while (true) {
+        while (i < text.size() && is_blank(text[i])) ++i;
+        if (i == text.size()) return any;
+        if (text[i] != '(') return false;
+        size_t close = i + 1;
+        for (; close < text.size() && text[close] != ')'; ++close) {
+            const auto c = static_cast<unsigned char>(text[close]);
+            if ((c < 0x20 && c != '\t') || c == 0x7F) return false;
+        }
+        if (close == text.size()) return false;
+        const ByteRange comment{static_cast<uint32_t>(i), static_cast<uint32_t>(close + 1)};
+        if (parse_directive(text, comment).is_directive) return false;
+        any = true;
+        i = close + 1;
+    }
+}
+
+namespace {
+
 // Whether [p, e), inside one line and not at its start, holds a byte
 // next_candidate would take: next_candidate without the line ends and the N
 // at a line's start, for the arguments of a call line. But for a letter
@@ -209,7 +233,7 @@ public:
             const char* ls = scan.candidate;
             while (ls > buf_.data() + pos_ && !is_break(ls[-1])) --ls;
             pos_ = static_cast<size_t>(ls - buf_.data());
-            if (!skip_plain_call()) take_line();
+            if (!skip_unparsed_line()) take_line();
         }
         for (auto& p : out_.programs) {
             std::sort(p.references.begin(), p.references.end());
@@ -284,10 +308,14 @@ private:
         take(block_, line);
     }
 
-    // A CALL or MODIN with plain arguments only (the letter O of its name
-    // made it a candidate) gives the outline nothing: passed over unparsed.
-    // Only while no directive waits for its target (run takes every line then).
-    bool skip_plain_call() {
+    // A line that gives the outline nothing is passed over unparsed (the
+    // letters of its text made it a candidate). Only while no directive waits
+    // for its target (run takes every line then):
+    // - a line of comments only, none of them a suppression directive
+    //   (comments_only): no program name, no flow, no block a directive
+    //   waits for;
+    // - a CALL or MODIN with plain arguments only (outline_passes_over).
+    bool skip_unparsed_line() {
         const char* p = buf_.data() + pos_;
         const char* brk = find_line_break(p, buf_.data() + complete_);
         if (!brk) return false;
@@ -295,7 +323,10 @@ private:
         const size_t term = (*brk == '\r' && brk + 1 < buf_.data() + end_ && brk[1] == '\n') ? 2 : 1;
         const LineRef line{std::string_view(p, text), std::string_view(brk, term), line_,
                            static_cast<uint32_t>(base_ + pos_)};
-        if (!outline_passes_over(parser_, line, &last_plain_)) return false;
+        size_t i = 0;
+        while (i < text && is_blank(p[i])) ++i;
+        if (i < text && p[i] == '(' ? !comments_only(line.text) : !outline_passes_over(parser_, line, &last_plain_))
+            return false;
         pos_ += text + term;
         ++line_;
         return true;

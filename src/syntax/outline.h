@@ -117,6 +117,11 @@ FileOutline outline_file(ByteSource& src, const OutlineOptions& options = {});
 // (see above). `line_start` says p starts a line. Exposed for tests.
 bool may_hold_outline_item(const char* p, const char* e, bool line_start);
 
+// Whether a line's text (its terminator left out) holds only blanks and one
+// comment or more, closed on the line, none of them a suppression directive:
+// the outline passes over such a line without parsing it. Exposed for tests.
+bool comments_only(std::string_view text);
+
 // Whether the outline passes over `line` without parsing it: a CALL or
 // MODIN alone on its line (no sequence name, no block delete before it)
 // whose arguments either hold none of the bytes an outlined item must hold

@@ -299,6 +299,15 @@ std::string compare_outline(const std::string& name, const std::string& text) {
                 report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) +
                           "' passed over, but parse: " + outline_view(a) + "\n";
         }
+        // A line of comments only that the outline passes over (comments_only)
+        // must be read as one: no content, no error, no directive.
+        if (comments_only(line.text)) {
+            const bool none = a.kind == LineKind::Block && a.is_empty() && a.errors.empty() && !a.block_delete &&
+                              !a.comments.empty() && !has_directive(a, line.text);
+            if (!none && report.size() < 4000)
+                report += name + " line " + std::to_string(line.line) + ": '" + std::string(line.text) +
+                          "' passed over as comments only, but parse: " + outline_view(a) + "\n";
+        }
     });
     return report;
 }
@@ -381,6 +390,19 @@ TEST_CASE("fast front end: parse_outline reads what parse reads for the outline"
     CHECK_FALSE(passes("CALL O100 PX=VC1 N=60"));             // an N word
     CHECK_FALSE(passes("CALL O100 PX=VC1 XT=1"));             // not after a P
     CHECK_FALSE(passes("CALL O100 PX=VC1 PT =1"));            // not before the `=`
+    // A line of comments only, none of them a directive, is passed over too.
+    CHECK(comments_only("(T31 BIG BACK C'BORE BAR - BACK SPOTFACES)"));
+    CHECK(comments_only("  (ONE)\t(TWO) "));
+    CHECK(comments_only("(OSPLINT IS NOT A DIRECTIVE WITHOUT ITS COLON)"));
+    CHECK_FALSE(comments_only(""));                                // no comment
+    CHECK_FALSE(comments_only("   "));
+    CHECK_FALSE(comments_only("(osplint: disable=OSP104 -- checked)"));
+    CHECK_FALSE(comments_only("(NOTE) ( OSPLINT : disable-file=OSP005)"));
+    CHECK_FALSE(comments_only("(NOT CLOSED"));
+    CHECK_FALSE(comments_only("(A) X1."));                         // a word after it
+    CHECK_FALSE(comments_only("/(BLOCK DELETE)"));
+    CHECK_FALSE(comments_only("N10 (NAMED)"));
+    CHECK_FALSE(comments_only(std::string("(A\x01B)")));           // a control byte: the parser fails on it
     CHECK_FALSE(passes("CALL O100 PX=VC1 PTE=1"));            // a T inside the name
     // The look at the arguments takes the bytes the outline's scan takes
     // (may_hold_outline_item), but for the last letter of a `P?=` name, on
