@@ -20,6 +20,8 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): a repeated block has no syntax error.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no syntax error
+    // Only a block with a syntax error reports.
+    uint8_t block_needs() const override { return kError; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         for (const auto& e : v.block.errors) ctx.report(kMeta, e.range, e.message);
     }

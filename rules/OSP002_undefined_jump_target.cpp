@@ -31,6 +31,8 @@ public:
         return true;
     }
     void begin_program(RuleContext&, const ProgramView&) override { refs_.clear(); }
+    // Only jumps (GOTO, IF) and N words refer to a name.
+    uint8_t block_needs() const override { return kStatement | kNamed; }
     void check_block(RuleContext&, const BlockView& v) override {
         for (const auto& st : v.block.statements) {
             if (st.kind != StmtKind::Goto && st.kind != StmtKind::If) continue;

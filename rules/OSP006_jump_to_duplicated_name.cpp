@@ -37,6 +37,8 @@ public:
         jumps_.clear();
         set_wants_plain_moves(false);  // a definition has a sequence name (RuleBlocks::Named)
     }
+    // Only sequence names and jumps (GOTO, IF) are kept.
+    uint8_t block_needs() const override { return kStatement | kNamed; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         if (v.block.sequence) definition(ctx, v.block.sequence->name, v.block.sequence->range);
         for (const auto& st : v.block.statements)

@@ -36,6 +36,10 @@ public:
         user_range_ = {};
     }
 
+    // Only a call of a macro that G60 and NCYL hurt, or an NCYL.
+
+    uint8_t block_needs() const override { return kStatement | kCall; }
+
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (c && c->spec && c->spec->has(Hazard::G60NcylCollision) && !user_ &&

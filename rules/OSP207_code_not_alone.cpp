@@ -21,6 +21,8 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same M words.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no M word
+    // Only an M843 or M845 word reports.
+    uint8_t block_needs() const override { return kMWord; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         for (const auto& w : b.words) {

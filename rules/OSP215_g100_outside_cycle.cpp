@@ -18,6 +18,8 @@ public:
     // A repeat of a quiet block is quiet (Rule::quiet_on_repeat): the same G words under the same cycle.
     bool quiet_on_repeat(const Config&, const MacroSpec*) const override { return true; }
     bool sees_plain_calls() const override { return false; }  // a plain call line has no G word
+    // Only a G100 word reports.
+    uint8_t block_needs() const override { return kGWord; }
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Word* g100 = nullptr;
         for (const auto& w : v.block.words)

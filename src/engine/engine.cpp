@@ -881,12 +881,7 @@ void Walk::index_plain_rules() {
     call_rules_.clear();
     for (auto& r : rules_)
         if (r->sees_plain_calls()) call_rules_.push_back(r.get());
-    for (uint8_t has = 0; has < rules_for_.size(); ++has) {
-        rules_for_[has].clear();
-        for (auto& r : rules_)
-            if (const uint8_t needs = r->block_needs(); needs == Rule::kEveryBlock || (needs & has))
-                rules_for_[has].push_back(r.get());
-    }
+    rules_for_listed_.fill(false);
     call_rules_of_.clear();
     last_call_rules_ = nullptr;
     plain_rules_.clear();
@@ -918,6 +913,18 @@ void Walk::index_plain_rules() {
         }
         plain_digits_.push_back(digits);
     }
+}
+
+const std::vector<Rule*>& Walk::rules_for(uint8_t has) {
+    std::vector<Rule*>& list = rules_for_[has];
+    if (!rules_for_listed_[has]) {
+        list.clear();
+        for (auto& r : rules_)
+            if (const uint8_t needs = r->block_needs(); needs == Rule::kEveryBlock || (needs & has))
+                list.push_back(r.get());
+        rules_for_listed_[has] = true;
+    }
+    return list;
 }
 
 const std::vector<Rule*>& Walk::call_rules_of(const MacroCall& call) {
@@ -1173,9 +1180,10 @@ void Walk::check(const BlockView& view, const LineRef& line, bool plain, Repeate
         } else if (plain_call) {
             for (Rule* r : call_rules_of(*view.call)) r->check_block(*this, view);
         } else {
-            const uint8_t has = (view.call ? Rule::kCall : 0) | (active_cycle(view.before) ? Rule::kCycleBefore : 0) |
+            const uint8_t has = Rule::what_block_has(view.block) | (view.call ? Rule::kCall : 0) |
+                                (active_cycle(view.before) ? Rule::kCycleBefore : 0) |
                                 (active_cycle(view.after) ? Rule::kCycleAfter : 0);
-            for (Rule* r : rules_for_[has]) r->check_block(*this, view);
+            for (Rule* r : rules_for(has)) r->check_block(*this, view);
         }
         // The state compared once: before the rules for a repeat, after them
         // for a block that may start one (and then only when it was quiet).

@@ -219,7 +219,30 @@ public:
         kCall = 1,         // BlockView::call is set (a macro or a subprogram)
         kCycleBefore = 2,  // active_cycle(before): a fixed cycle is known to be modal before the block
         kCycleAfter = 4,   // active_cycle(after): and after it
+        kMWord = 8,        // a word whose address is M
+        kGWord = 16,       // a word whose address is G
+        kStatement = 32,   // a statement (CALL, GOTO, IF, NCYL, MODIN, RTS, ...)
+        kNamed = 64,       // a sequence name, or a word whose address is N
+        kError = 128,      // a syntax error (Block::errors)
     };
+    // The BlockNeed bits a block has, but for the three that the states and
+    // the call give (the walk adds those).
+    static uint8_t what_block_has(const Block& b) {
+        uint8_t has = 0;
+        for (const Word& w : b.words) {
+            if (w.address.size() != 1) continue;
+            switch (w.address[0]) {
+                case 'M': has |= kMWord; break;
+                case 'G': has |= kGWord; break;
+                case 'N': has |= kNamed; break;
+                default: break;
+            }
+        }
+        if (!b.statements.empty()) has |= kStatement;
+        if (b.sequence) has |= kNamed;
+        if (!b.errors.empty()) has |= kError;
+        return has;
+    }
     virtual uint8_t block_needs() const { return kEveryBlock; }
     // Of a rule that sees plain calls: whether check_block may do anything
     // on a plain call of `spec` made as `kind` (Call, Modin or

@@ -410,8 +410,11 @@ private:
     FileOutline outline_;
     std::vector<std::unique_ptr<Rule>> rules_;
     std::vector<Rule*> plain_rules_;  // the rules that look at plain moves
-    // rules_ by what a block has (Rule::BlockNeed bits): those that may do something on it.
-    std::array<std::vector<Rule*>, 8> rules_for_;
+    // rules_ by what a block has (Rule::BlockNeed bits): those that may do
+    // something on it, listed the first time a block has that (rules_for).
+    std::array<std::vector<Rule*>, 256> rules_for_;
+    std::array<bool, 256> rules_for_listed_{};
+    const std::vector<Rule*>& rules_for(uint8_t has);
     std::vector<Rule*> call_rules_;   // the rules that look at plain calls (Rule::sees_plain_calls)
     // Of those, the ones that look at a plain call of a macro made so
     // (Rule::sees_plain_calls_of), by macro and kind, and the last asked for.
