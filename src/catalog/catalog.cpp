@@ -504,6 +504,8 @@ const MacroSpec* Catalog::find(std::string_view name) const {
 }
 
 const CycleSpec* Catalog::find_cycle(int gcode) const {
+    if (gcode >= 0 && gcode < 1024 && !((cycle_codes_[static_cast<size_t>(gcode) >> 6] >> (gcode & 63)) & 1u))
+        return nullptr;
     for (const auto& c : cycles_)
         if (c.gcode == gcode) return &c;
     return nullptr;

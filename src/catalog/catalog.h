@@ -426,6 +426,9 @@ private:
 
     std::deque<MacroSpec> macros_;
     std::deque<CycleSpec> cycles_;
+    // The G codes below 1024 that cycles_ holds, as bits: find_cycle, asked
+    // of every G code of every block, answers most at once (no cycle).
+    std::array<uint64_t, 16> cycle_codes_{};
     std::map<std::string, std::string> codes_;  // "G114" -> "OG84L"
     // codes_'s keys as numbers ('G', 114), made again wherever codes_ changes
     // (register_code, merge).

@@ -780,7 +780,11 @@ void Catalog::merge_cycles(const toml::table& cycles_table, const std::string& o
     cr.done();
     for (auto& s : staged) {
         if (s.existing) *s.existing = std::move(s.spec);
-        else cycles_.push_back(std::move(s.spec));
+        else {
+            const int code = s.spec.gcode;
+            if (code >= 0 && code < 1024) cycle_codes_[static_cast<size_t>(code) >> 6] |= uint64_t{1} << (code & 63);
+            cycles_.push_back(std::move(s.spec));
+        }
     }
 }
 
