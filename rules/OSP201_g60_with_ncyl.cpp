@@ -37,9 +37,7 @@ public:
     }
 
     // Only a call of a macro that G60 and NCYL hurt, or an NCYL.
-
     uint8_t block_needs() const override { return kStatement | kCall; }
-
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const MacroCall* c = v.call;
         if (c && c->spec && c->spec->has(Hazard::G60NcylCollision) && !user_ &&

@@ -26,9 +26,7 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override { modins_.clear(); }
 
     // Only a MODIN, or a call of a subprogram that leaves one open.
-
     uint8_t block_needs() const override { return kStatement | kCall; }
-
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Statement* st = v.block.statement(StmtKind::Modin);
         if (!st) {

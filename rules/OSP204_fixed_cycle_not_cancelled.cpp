@@ -42,9 +42,7 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override { end_block_.reset(); }
 
     // Only RTS, M02 or M30 (the end of the program), or a cycle started while one is modal.
-
     uint8_t block_needs() const override { return kStatement | kMWord | kCycleBefore; }
-
     void check_block(RuleContext& ctx, const BlockView& v) override {
         const Block& b = v.block;
         if (b.statement(StmtKind::Rts) || b.has_code("M", 2) || b.has_code("M", 30)) end_block_ = b.range;

@@ -26,9 +26,7 @@ public:
     void begin_program(RuleContext&, const ProgramView&) override { last_m843_.reset(); }
 
     // Only M words: M843 starts the mode, M3, M4, M5 inside it report.
-
     uint8_t block_needs() const override { return kMWord; }
-
     void check_block(RuleContext& ctx, const BlockView& v) override {
         for (const auto& w : v.block.words) {
             if (w.address != "M" || !w.number) continue;
