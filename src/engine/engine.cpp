@@ -47,6 +47,9 @@ std::string Walk::run() {
     index_plain_rules();
     plain_ok_ = plain_moves_possible(config_.catalog);
     runs_ok_ = !options_.checkpoints && !options_.observer;
+    // A batch walk reads the next chunk of a large input on another thread
+    // (the outline's threads have ended by now).
+    if (runs_ok_) main_.read_ahead();
     filter_.emplace(outline_, *options_.rules, config_,
                     options_.run_rules ? options_.only_rules : std::vector<std::string>{"(none)"});
     initial_used_ = filter_->used();

@@ -7,7 +7,11 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <condition_variable>
 #include <cstring>
+#include <mutex>
+#include <system_error>
+#include <thread>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -331,14 +335,137 @@ const char* skip_lines(const char* p, const char* e, uint64_t n) {
     return nullptr;
 }
 
+// One read at a time on a thread of its own, from another reader of the
+// source: start() asks for it, wait() takes its result.
+class ReadAhead {
+public:
+    explicit ReadAhead(std::unique_ptr<ByteSource> src) : src_(std::move(src)), thread_([this] { serve(); }) {}
+    ~ReadAhead() {
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        thread_.join();  // after the read it may be doing: its buffer outlives it
+    }
+    ReadAhead(const ReadAhead&) = delete;
+    ReadAhead& operator=(const ReadAhead&) = delete;
+
+    void start(uint64_t offset, char* buf, size_t len) {
+        {
+            const std::lock_guard<std::mutex> lock(mutex_);
+            offset_ = offset;
+            buf_ = buf;
+            len_ = len;
+            state_ = State::Asked;
+        }
+        pending_ = true;
+        wake_.notify_all();
+    }
+    // The count read (as ByteSource::read), once the read has ended.
+    int64_t wait() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [&] { return state_ == State::Done; });
+        state_ = State::Idle;
+        pending_ = false;
+        return result_;
+    }
+    bool pending() const { return pending_; }
+    uint64_t offset() const { return offset_; }          // of the last read asked
+    std::string error() const { return src_->error(); }  // after wait()
+
+private:
+    enum class State { Idle, Asked, Done };
+    void serve() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        while (true) {
+            wake_.wait(lock, [&] { return stop_ || state_ == State::Asked; });
+            if (stop_) return;
+            const uint64_t offset = offset_;
+            char* const buf = buf_;
+            const size_t len = len_;
+            lock.unlock();
+            const int64_t r = src_->read(offset, buf, len);
+            lock.lock();
+            result_ = r;
+            state_ = State::Done;
+            wake_.notify_all();
+        }
+    }
+
+    std::unique_ptr<ByteSource> src_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    State state_ = State::Idle;
+    bool stop_ = false;
+    uint64_t offset_ = 0;
+    char* buf_ = nullptr;
+    size_t len_ = 0;
+    int64_t result_ = 0;
+    bool pending_ = false;  // the owner's: a read was asked and not yet waited for
+    std::thread thread_;    // last: it starts once the rest is ready
+};
+
+LineStream::LineStream(ByteSource& src, size_t chunk) : src_(&src), chunk_(chunk ? chunk : 1) {}
+LineStream::~LineStream() = default;
+
+void LineStream::read_ahead() {
+    if (ahead_) return;
+    const std::optional<uint64_t> size = src_->size();
+    // Room before the chunk for the start of a line cut by the chunk's
+    // start; a longer start is read again with the chunk (fill).
+    const size_t headroom = std::min<size_t>(chunk_ / 4, size_t(64) << 10);
+    if (!size || *size / 2 <= chunk_ || headroom == 0) return;
+    std::unique_ptr<ByteSource> reader = src_->another_reader();
+    if (!reader) return;
+    try {
+        ahead_ = std::make_unique<ReadAhead>(std::move(reader));
+    } catch (const std::system_error&) {
+        return;  // no thread: read here
+    }
+    headroom_ = headroom;
+    if (!eof_ && !error_ && end_ > 0) start_ahead();
+}
+
+void LineStream::start_ahead() {
+    const uint64_t at = buf_offset_ + end_;
+    const std::optional<uint64_t> size = src_->size();
+    if (size && at >= *size) return;  // the read here finds the end (or that the file grew)
+    if (spare_.size() < headroom_ + chunk_) spare_.resize(headroom_ + chunk_);
+    ahead_->start(at, spare_.data() + headroom_, chunk_);
+}
+
+bool LineStream::take_ahead(bool& ok) {
+    ok = true;
+    if (!ahead_ || !ahead_->pending()) return false;
+    const int64_t r = ahead_->wait();  // even when it is dropped: the thread writes into spare_
+    const uint64_t at = buf_offset_ + end_;
+    const size_t left = end_ - pos_;
+    if (ahead_->offset() != at || left > headroom_) return false;
+    if (r < 0) {
+        error_ = true;
+        stop_reason_ = ahead_->error();
+        ok = false;
+        return true;
+    }
+    std::memcpy(spare_.data() + headroom_ - left, buf_.data() + pos_, left);
+    buf_.swap(spare_);
+    buf_offset_ = at - headroom_;
+    begin_ = pos_ = headroom_ - left;
+    end_ = headroom_ + static_cast<size_t>(r);
+    if (r == 0) eof_ = true;
+    else start_ahead();
+    return true;
+}
+
 void LineStream::seek(uint64_t offset, uint32_t line) {
     line_ = line;
-    if (offset >= buf_offset_ && offset <= buf_offset_ + end_) {  // still in the buffer
+    if (offset >= buf_offset_ + begin_ && offset <= buf_offset_ + end_) {  // still in the buffer
         pos_ = static_cast<size_t>(offset - buf_offset_);
         return;
     }
     buf_offset_ = offset;
-    pos_ = end_ = 0;
+    begin_ = pos_ = end_ = 0;
     eof_ = false;
 }
 
@@ -392,12 +519,15 @@ bool LineStream::next(LineRef& out) {
 }
 
 bool LineStream::fill() {
+    bool ok = true;
+    if (take_ahead(ok)) return ok;
     if (pos_ > 0) {
         std::memmove(buf_.data(), buf_.data() + pos_, end_ - pos_);
         end_ -= pos_;
         buf_offset_ += pos_;
         pos_ = 0;
     }
+    begin_ = 0;
     if (end_ > kMaxLineLength) {  // the line in the buffer has no end in sight
         error_ = true;
         stop_reason_ = line_too_long_message(line_);
@@ -415,6 +545,7 @@ bool LineStream::fill() {
     }
     if (r == 0) eof_ = true;
     end_ += static_cast<size_t>(r);
+    if (ahead_ && r > 0) start_ahead();
     return true;
 }
 

@@ -199,9 +199,23 @@ size_t line_buffer_size(const ByteSource& src, size_t chunk);
 
 // Lines of a ByteSource (terminators LF, CRLF and a lone CR). A LineRef stays
 // valid until the next call of next() or seek().
+class ReadAhead;
+
 class LineStream {
 public:
-    LineStream(ByteSource& src, size_t chunk) : src_(&src), chunk_(chunk ? chunk : 1) {}
+    LineStream(ByteSource& src, size_t chunk);
+    ~LineStream();
+    LineStream(const LineStream&) = delete;
+    LineStream& operator=(const LineStream&) = delete;
+
+    // From now on, the chunk after the buffer is read on another thread while
+    // the lines of the buffer are taken, into a second buffer of the same
+    // size. Only for a source that can give another reader (a file, a text in
+    // memory) and holds more than two chunks; otherwise, or when no thread can
+    // be started, reading stays as it was. The lines and errors are the same
+    // either way: an error of the other reader is the stream's stop_reason().
+    void read_ahead();
+    bool reads_ahead() const { return ahead_ != nullptr; }
 
     // Continues at `offset`, numbering that line `line`.
     void seek(uint64_t offset, uint32_t line);
@@ -209,7 +223,8 @@ public:
     bool next(LineRef& out);
     bool error() const { return error_; }
     // Why reading stopped when the stream itself stopped it (a line longer
-    // than kMaxLineLength); empty when the source failed (its error()).
+    // than kMaxLineLength, a read of the other thread that failed); empty
+    // when the source failed (its error()).
     const std::string& stop_reason() const { return stop_reason_; }
     // Offset (64-bit) of the line next() returned last.
     uint64_t last_start() const { return start64_; }
@@ -228,17 +243,25 @@ public:
 
 private:
     bool fill();
+    // Takes the chunk the other thread read, behind the part of a line left
+    // in the buffer; false when it cannot (it is dropped and read again).
+    bool take_ahead(bool& ok);
+    void start_ahead();
 
     ByteSource* src_;
     size_t chunk_;
     std::vector<char> buf_;
+    size_t begin_ = 0;  // the first byte of buf_ that holds input (before it: room for a line's start)
     size_t pos_ = 0, end_ = 0;
-    uint64_t buf_offset_ = 0;
+    uint64_t buf_offset_ = 0;  // the offset of buf_[0]
     uint64_t start64_ = 0;
     bool eof_ = false;
     bool error_ = false;
     std::string stop_reason_;
     uint32_t line_ = 1;
+    std::vector<char> spare_;  // what ahead_ reads into (declared before it: ahead_ ends first)
+    size_t headroom_ = 0;      // bytes of spare_ before the chunk ahead_ reads
+    std::unique_ptr<ReadAhead> ahead_;
 };
 
 }  // namespace osplint

@@ -371,3 +371,151 @@ TEST_CASE("subprogram names: a folder of 2,000 subprogram files is read once, th
     CHECK(dirs.files_read() == 4000);
     fs::remove_all(dir);
 }
+
+namespace {
+
+// Lines of every length up to a few hundred bytes, some far longer than the
+// room a chunk read ahead keeps for a line's start, ended by LF, CR LF or CR.
+std::string mixed_lines(std::mt19937& rng, size_t size) {
+    std::string t;
+    while (t.size() < size) {
+        const size_t len = rng() % 16 == 0 ? 200 + rng() % 3000 : rng() % 90;
+        for (size_t i = 0; i < len; ++i) t += "GXYZ0123456789. ("[rng() % 17];
+        t += rng() % 5 == 0 ? (rng() % 2 ? "\r\n" : "\r") : "\n";
+    }
+    return t;
+}
+
+// A source that fails every read that reaches `fail_at`, as does every other reader it gives.
+class FailingSource final : public ByteSource {
+public:
+    FailingSource(std::string_view text, uint64_t fail_at) : text_(text), fail_at_(fail_at) {}
+    int64_t read(uint64_t offset, char* buf, size_t len) override {
+        if (offset + len > fail_at_) return -1;
+        return MemorySource(text_).read(offset, buf, len);
+    }
+    std::optional<uint64_t> size() const override { return text_.size(); }
+    std::string error() const override { return "read error: the disk went away"; }
+    std::unique_ptr<ByteSource> another_reader() const override {
+        return std::make_unique<FailingSource>(text_, fail_at_);
+    }
+
+private:
+    std::string_view text_;
+    uint64_t fail_at_;
+};
+
+struct SeenLine {
+    std::string text, terminator;
+    uint32_t line;
+    uint32_t start;
+    friend bool operator==(const SeenLine&, const SeenLine&) = default;
+};
+
+SeenLine seen(const LineRef& l) { return {std::string(l.text), std::string(l.terminator), l.line, l.start}; }
+
+}  // namespace
+
+TEST_CASE("read_ahead: the same lines as reading here, across chunk ends, long lines, seeks and skips") {
+    std::mt19937 rng(4711);
+    for (int round = 0; round < 40; ++round) {
+        const size_t chunk = size_t(64) << (rng() % 6);  // 64 bytes to 2 KiB: room of 16 to 512 bytes
+        const std::string text = mixed_lines(rng, 40 * chunk + rng() % 1000);
+        MemorySource a(text), b(text);
+        LineStream here(a, chunk), ahead(b, chunk);
+        ahead.read_ahead();
+        REQUIRE(ahead.reads_ahead());
+        CHECK_FALSE(here.reads_ahead());
+        std::vector<std::pair<uint64_t, uint32_t>> starts;  // of lines taken, to seek back to
+        LineRef x, y;
+        for (int step = 0; step < 20000; ++step) {
+            const unsigned op = rng() % 64;
+            if (op == 0 && !starts.empty()) {  // back to a line taken before, near or far
+                const auto [offset, line] = starts[rng() % starts.size()];
+                here.seek(offset, line);
+                ahead.seek(offset, line);
+                continue;
+            }
+            if (op == 1) {  // pass over the first whole line in both buffers, as a run of repeats does
+                const std::string_view p = here.buffered(), q = ahead.buffered();
+                const size_t lf = p.find('\n');
+                if (lf != std::string_view::npos && p.substr(0, lf).find('\r') == std::string_view::npos &&
+                    q.size() > lf && q.substr(0, lf + 1) == p.substr(0, lf + 1)) {
+                    here.skip_buffered(lf + 1, 1, 0);
+                    ahead.skip_buffered(lf + 1, 1, 0);
+                    REQUIRE(here.next_offset() == ahead.next_offset());
+                    continue;
+                }
+            }
+            const bool got_here = here.next(x);
+            const bool got_ahead = ahead.next(y);
+            REQUIRE(got_here == got_ahead);
+            if (!got_here) break;
+            REQUIRE(seen(x) == seen(y));
+            REQUIRE(here.next_offset() == ahead.next_offset());
+            REQUIRE(text.compare(y.start, y.text.size(), y.text) == 0);
+            starts.emplace_back(y.start, y.line);
+        }
+        CHECK_FALSE(here.error());
+        CHECK_FALSE(ahead.error());
+    }
+}
+
+TEST_CASE("read_ahead: only for a source of more than two chunks that gives another reader") {
+    const std::string text = "G0 X1\nG1 Y2\n";
+    MemorySource small(text);
+    LineStream a(small, 8);
+    a.read_ahead();
+    CHECK_FALSE(a.reads_ahead());  // 12 bytes: not more than two chunks of 8
+    MemorySource large(text + text + text);
+    LineStream b(large, 8);
+    b.read_ahead();
+    CHECK(b.reads_ahead());
+    FdSource unsized(-1, std::nullopt);  // size unknown (a pipe)
+    LineStream c(unsized, 8);
+    c.read_ahead();
+    CHECK_FALSE(c.reads_ahead());
+}
+
+TEST_CASE("read_ahead: a read that fails on the other thread stops the stream with its error") {
+    std::mt19937 rng(99);
+    const std::string text = mixed_lines(rng, 64 << 10);
+    for (uint64_t fail_at : {uint64_t(10), uint64_t(5000), uint64_t(40000)}) {
+        FailingSource src(text, fail_at);
+        LineStream ls(src, 1024);
+        ls.read_ahead();
+        REQUIRE(ls.reads_ahead());
+        LineRef l;
+        uint64_t end = 0;
+        while (ls.next(l)) {
+            REQUIRE(text.compare(l.start, l.text.size(), l.text) == 0);
+            end = l.end();
+        }
+        CHECK(ls.error());
+        CHECK(end <= fail_at);
+        // The walk reports the stream's reason, else the source's error (Walk::fetch).
+        const std::string why = ls.stop_reason().empty() ? src.error() : ls.stop_reason();
+        CHECK(why == "read error: the disk went away");
+    }
+}
+
+TEST_CASE("read_ahead: a file cut while it is read ahead is reported as changed") {
+    std::mt19937 rng(5);
+    const std::string text = mixed_lines(rng, 256 << 10);
+    ScratchFile file(text);
+    const std::optional<FileStamp> opened = file_stamp(file.fd);
+    REQUIRE(opened);
+    FdSource src(file.fd, *opened);
+    LineStream ls(src, 4096);
+    ls.read_ahead();
+    REQUIRE(ls.reads_ahead());
+    LineRef l;
+    for (int i = 0; i < 100; ++i) REQUIRE(ls.next(l));
+    const uint64_t cut = text.size() / 2;
+    REQUIRE(::ftruncate(file.fd, static_cast<off_t>(cut)) == 0);
+    while (ls.next(l)) REQUIRE(text.compare(l.start, l.text.size(), l.text) == 0);
+    CHECK(ls.error());
+    CHECK(ls.next_offset() <= cut + 4096 * 2);
+    const std::string why = ls.stop_reason().empty() ? src.error() : ls.stop_reason();
+    CHECK(why == kChangedMessage);
+}
