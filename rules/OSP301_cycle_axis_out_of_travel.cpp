@@ -91,7 +91,7 @@ public:
         }
         // A plain move runs no macro and drills no hole: no envelope.
         if (v.plain_move) {
-            report_positions(ctx, config, axes_past_travel(v.block.words, v.before, v.after, config));
+            report_positions(ctx, config, axes_past_travel(v.block.words, v.before, v.after, ctx.axis_limits()));
             return;
         }
         // Nor does a block that calls nothing, with no fixed cycle known to
@@ -202,7 +202,7 @@ public:
     void check_plain_move(RuleContext& ctx, const PlainMoveView& v) override {
         const Config& config = ctx.config();
         if (config.travel.empty()) return;
-        report_positions(ctx, config, axes_past_travel(v.move, v.before, v.after, config));
+        report_positions(ctx, config, axes_past_travel(v.move, v.before, v.after, ctx.axis_limits()));
     }
 
 private:

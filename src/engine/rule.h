@@ -141,6 +141,16 @@ class RuleContext {
 public:
     virtual ~RuleContext() = default;
     virtual const Config& config() const = 0;
+    // The travel limits of X, Y and Z of config(), looked up the first time
+    // they are asked for (a context keeps its configuration for its lifetime):
+    // a wrong work offset asks for them on every move.
+    const AxisLimits& axis_limits() const {
+        if (!axis_limits_ready_) {
+            axis_limits_ = osplint::axis_limits(config().travel);
+            axis_limits_ready_ = true;
+        }
+        return axis_limits_;
+    }
     virtual const Catalog& catalog() const = 0;
     // The text of a range of the block being checked, its line terminator
     // included (a range that runs past the end of the file is cut there). The
@@ -170,6 +180,10 @@ public:
     // (engine/fold.h). When it is, the rule does not report it and need not
     // build its message; when it is not, the rule reports it next.
     virtual bool folded(const RuleMeta& rule, std::string_view key, ByteRange range) = 0;
+
+private:
+    mutable AxisLimits axis_limits_{};
+    mutable bool axis_limits_ready_ = false;
 };
 
 // Reports a finding that holds on some paths only ("G91 may be in effect

@@ -24,6 +24,15 @@ struct TravelLimit {
 };
 // By axis letter: X, Y, Z.
 using TravelLimits = std::map<char, TravelLimit>;
+// The limits of X, Y and Z, in that order (nullptr: none for that axis):
+// pointers into a TravelLimits, valid while it is neither changed nor gone.
+using AxisLimits = std::array<const TravelLimit*, 3>;
+inline AxisLimits axis_limits(const TravelLimits& travel) {
+    AxisLimits out{};
+    for (size_t i = 0; i < 3; ++i)
+        if (auto it = travel.find(static_cast<char>('X' + i)); it != travel.end()) out[i] = &it->second;
+    return out;
+}
 
 // One `exclude` pattern, or the `paths` of one `[[per-path]]` table, with the
 // directory its patterns are relative to (that of the file that names them).

@@ -314,16 +314,13 @@ inline char moved_axis(const PlainMoveWord& w) { return w.address >= 'X' && w.ad
 // the block's words or from a plain move's (PlainMove): called directly for a
 // block the engine says is a plain move (inline: a wrong work offset puts
 // every move of a program here).
+// With the limits of X, Y and Z looked up (axis_limits of the configured travel).
 template <class Words>
 AxesPastTravel axes_past_travel(const Words& words, const ModalState& before, const ModalState& after,
-                                const Config& config) {
+                                const AxisLimits& limits) {
     AxesPastTravel out;
     const bool in_cycle = after.cycle.known && after.cycle.value;
     const char cyc = in_cycle && before.plane.known ? plane_axes(before.plane.value).cycle : 0;
-    // The limits of X, Y and Z, looked up once for the block.
-    std::array<const TravelLimit*, 3> limits{};
-    for (size_t i = 0; i < 3; ++i)
-        if (auto it = config.travel.find(static_cast<char>('X' + i)); it != config.travel.end()) limits[i] = &it->second;
     unsigned seen = 0;                        // X, Y, Z: bits 0, 1, 2
     std::array<uint8_t, 3> slot{3, 3, 3};     // X, Y, Z: the place in out.axes (3: none)
     size_t count = 0;
@@ -355,6 +352,12 @@ AxesPastTravel axes_past_travel(const Words& words, const ModalState& before, co
     }
     out.count = count;
     return out;
+}
+
+template <class Words>
+AxesPastTravel axes_past_travel(const Words& words, const ModalState& before, const ModalState& after,
+                                const Config& config) {
+    return axes_past_travel(words, before, after, axis_limits(config.travel));
 }
 
 // A number as the trace and the messages print it: at most 4 decimals, no trailing zeros.
