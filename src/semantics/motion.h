@@ -313,8 +313,8 @@ inline char moved_axis(const PlainMoveWord& w) { return w.address >= 'X' && w.ad
 // axis words (every one but the cycle axis in a fixed cycle, a depth), from
 // the block's words or from a plain move's (PlainMove): called directly for a
 // block the engine says is a plain move (inline: a wrong work offset puts
-// every move of a program here).
-// With the limits of X, Y and Z looked up (axis_limits of the configured travel).
+// every move of a program here). `limits`: the configured travel's
+// axis_limits, looked up once for many blocks (RuleContext::axis_limits).
 template <class Words>
 AxesPastTravel axes_past_travel(const Words& words, const ModalState& before, const ModalState& after,
                                 const AxisLimits& limits) {
@@ -354,6 +354,7 @@ AxesPastTravel axes_past_travel(const Words& words, const ModalState& before, co
     return out;
 }
 
+// The same, looking the limits up in `config` for this block alone.
 template <class Words>
 AxesPastTravel axes_past_travel(const Words& words, const ModalState& before, const ModalState& after,
                                 const Config& config) {
